@@ -29,12 +29,20 @@ class InputError : public std::runtime_error {
     std::string s;
     if (!w.file.empty()) s += w.file;
     if (w.line > 0) {
-      s += (s.empty() ? "line " : ":") + std::to_string(w.line);
-      if (w.column > 0) s += ":" + std::to_string(w.column);
+      s.append(s.empty() ? "line " : ":");
+      s.append(std::to_string(w.line));
+      if (w.column > 0) {
+        s.append(":");
+        s.append(std::to_string(w.column));
+      }
     }
-    if (!s.empty()) s += ": ";
-    if (!key.empty()) s += key + ": ";
-    return s + what;
+    if (!s.empty()) s.append(": ");
+    if (!key.empty()) {
+      s.append(key);
+      s.append(": ");
+    }
+    s.append(what);
+    return s;
   }
 
  private:

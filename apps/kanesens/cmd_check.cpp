@@ -1,0 +1,41 @@
+// `kanesens check SCENE.yaml`: validate a scene and summarise it.
+#include <iostream>
+
+#include "commands.hpp"
+#include "model/build_model.hpp"
+#include "scene/parse_scene.hpp"
+#include "util/did_you_mean.hpp"
+
+namespace kanesens::cli {
+
+CLI::App* add_check(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand("check", "Validate a scene and print its bodies, joints, coordinates, speeds and parameters");
+  auto path = std::make_shared<std::string>();
+  cmd->add_option("scene", *path, "Scene YAML file")->required();
+  cmd->callback([&action, path] {
+    action = [path] {
+      const Model m = build_model(parse_scene_file(*path));
+      std::cout << "scene '" << m.name << "' (" << *path << "): valid\n";
+      std::cout << "  bodies (" << m.nbody() << "):";
+      for (const auto& b : m.bodies) std::cout << " " << b.name;
+      std::cout << "\n  joints (" << m.joints.size() << "):";
+      for (const auto& j : m.joints)
+        std::cout << " " << j.name << " [" << joint_type_name(j.type) << ": "
+                  << (j.parent >= 0 ? m.bodies[j.parent].name : "ground") << " -> " << m.bodies[j.child].name << "]";
+      std::cout << "\n  degrees of freedom: " << m.nu << " (nq = " << m.nq << ", nu = " << m.nu << ")\n";
+      std::cout << "  coordinates: " << join_names(m.coordinate_names) << "\n";
+      std::cout << "  speeds: " << join_names(m.speed_names) << "\n";
+      std::cout << "  constraints: 0\n";
+      std::cout << "  forces (" << m.forces.size() << "):";
+      for (const auto& f : m.forces) std::cout << " " << f.name;
+      std::cout << "\n  parameters (" << m.nparam() << "):";
+      for (const auto& p : m.parameters)
+        std::cout << " " << p.name << "=" << p.nominal << (p.derived ? " (derived)" : "");
+      std::cout << "\n  initial conditions: " << join_names(m.initial_condition_names) << "\n";
+      return 0;
+    };
+  });
+  return cmd;
+}
+
+}  // namespace kanesens::cli

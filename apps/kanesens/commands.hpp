@@ -1,0 +1,13 @@
+// The kanesens subcommands. Each adds itself to the CLI and returns the action to run if chosen.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace kanesens::cli {
+
+using Action = std::function<int()>;
+
+CLI::App* add_check(CLI::App& app, Action& action);
+CLI::App* add_eom(CLI::App& app, Action& action);
+
+}  // namespace kanesens::cli

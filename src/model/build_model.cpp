@@ -1,0 +1,472 @@
+#include "model/build_model.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <set>
+
+#include "model/workspace.hpp"
+#include "util/did_you_mean.hpp"
+
+namespace kanesens {
+
+const char* joint_type_name(JointType t) {
+  switch (t) {
+    case JointType::revolute: return "revolute";
+    case JointType::prismatic: return "prismatic";
+    case JointType::cylindrical: return "cylindrical";
+    case JointType::universal: return "universal";
+    case JointType::planar: return "planar";
+    case JointType::spherical: return "spherical";
+    case JointType::free: return "free";
+    case JointType::weld: return "weld";
+  }
+  return "?";
+}
+
+int Model::find_parameter(const std::string& n) const {
+  for (int i = 0; i < nparam(); ++i)
+    if (parameters[i].name == n) return i;
+  return -1;
+}
+int Model::find_body(const std::string& n) const {
+  if (n == "ground") return -1;
+  for (int i = 0; i < nbody(); ++i)
+    if (bodies[i].name == n) return i;
+  return -2;
+}
+std::vector<double> Model::nominal_parameters() const {
+  std::vector<double> p;
+  for (const auto& par : parameters) p.push_back(par.nominal);
+  return p;
+}
+
+namespace {
+
+const std::vector<std::string> kJointTypes = {"revolute", "prismatic", "cylindrical", "universal",
+                                              "planar",   "spherical", "free",        "weld"};
+
+bool is_identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
+}
+
+class Builder {
+ public:
+  Builder(const SceneSpec& spec, const std::map<std::string, double>& overrides)
+      : spec_(spec), overrides_(overrides) {}
+
+  Model build() {
+    m_.name = spec_.name;
+    m_.spec = spec_;
+    build_parameters();
+    build_bodies();
+    build_joints();
+    build_topology();
+    build_state_names();
+    build_joint_expressions();
+    build_forces();
+    for (int i = 0; i < 3; ++i) m_.gravity[i] = add(spec_.gravity[i], false);
+    check_nominal();
+    return std::move(m_);
+  }
+
+ private:
+  [[noreturn]] void fail(const SourceLocation& w, const std::string& key, const std::string& what) {
+    throw InputError(w, key, what);
+  }
+
+  void build_parameters() {
+    std::set<std::string> seen;
+    for (const auto& p : spec_.parameters) {
+      if (!is_identifier(p.name) || p.name == "t" || p.name == "pi")
+        fail(p.value.where, p.value.key, "'" + p.name + "' cannot be a parameter name (use letters, digits, _; not t or pi)");
+      if (!seen.insert(p.name).second) fail(p.value.where, p.value.key, "duplicate parameter '" + p.name + "'");
+      Parameter par;
+      par.name = p.name;
+      if (auto it = overrides_.find(p.name); it != overrides_.end()) {
+        par.value = expr::Expression(it->second);
+      } else {
+        par.value = expr::compile(p.value.text, param_names_, p.value.where, p.value.key);
+      }
+      par.derived = !par.value.is_constant();
+      std::vector<double> vals;
+      for (const auto& q : m_.parameters) vals.push_back(q.nominal);
+      expr::Inputs<double> in;
+      in.parameters = vals.data();
+      par.nominal = par.value.evaluate(in);
+      if (!std::isfinite(par.nominal))
+        fail(p.value.where, p.value.key, "value is not finite (" + std::to_string(par.nominal) + ")");
+      param_names_.add(p.name, {expr::VarKind::parameter, static_cast<int>(m_.parameters.size())});
+      m_.parameters.push_back(std::move(par));
+    }
+    for (const auto& [name, v] : overrides_) {
+      if (m_.find_parameter(name) < 0) {
+        std::vector<std::string> names;
+        for (const auto& p : m_.parameters) names.push_back(p.name);
+        throw InputError({}, "--set " + name, "no parameter '" + name + "' in scene '" + spec_.name + "'" +
+                                                  did_you_mean(name, names) + "; parameters are: " + join_names(names));
+      }
+      (void)v;
+    }
+  }
+
+  Slot add(const ExprText& e, bool allow_state) {
+    const expr::NameTable& names = allow_state ? state_names_ : param_names_;
+    m_.expressions.push_back(expr::compile(e.text, names, e.where, e.key));
+    const Slot s = static_cast<Slot>(m_.expressions.size() - 1);
+    (m_.expressions.back().uses_state() ? m_.state_slots : m_.parameter_slots).push_back(s);
+    return s;
+  }
+  Slot add_text(const std::string& text, const SourceLocation& w, const std::string& key) {
+    return add(ExprText{text, w, key}, false);
+  }
+  Slot3 add3(const Vec3Text& v, bool allow_state) { return {add(v[0], allow_state), add(v[1], allow_state), add(v[2], allow_state)}; }
+
+  void build_bodies() {
+    std::set<std::string> seen;
+    for (const auto& b : spec_.bodies) {
+      if (b.name == "ground") fail(b.where, b.key + ".name", "'ground' is reserved for the world frame");
+      if (!is_identifier(b.name)) fail(b.where, b.key + ".name", "'" + b.name + "' is not a valid name (letters, digits, _)");
+      if (!seen.insert(b.name).second) fail(b.where, b.key + ".name", "duplicate body name '" + b.name + "'");
+      Body body;
+      body.name = b.name;
+      body.mass = add(b.mass, false);
+      const InertiaSpec& in = b.inertia;
+      const std::string m = "(" + b.mass.text + ")";
+      auto sq = [](const ExprText& e) { return "(" + e.text + ")^2"; };
+      std::array<std::string, 6> t{"0", "0", "0", "0", "0", "0"};
+      SourceLocation w = b.where;
+      std::string key = b.key + ".inertia";
+      switch (in.kind) {
+        case InertiaSpec::Kind::entries:
+          body.inertia = {add(in.xx, false), add(in.yy, false), add(in.zz, false),
+                          add(in.xy, false), add(in.yz, false), add(in.xz, false)};
+          m_.bodies.push_back(body);
+          continue;
+        case InertiaSpec::Kind::rod:
+          for (int i = 0; i < 3; ++i) t[i] = i == in.axis ? "0" : m + "*" + sq(in.length) + "/12";
+          w = in.length.where; key = in.length.key;
+          break;
+        case InertiaSpec::Kind::box:
+          t[0] = m + "*(" + sq(in.size[1]) + "+" + sq(in.size[2]) + ")/12";
+          t[1] = m + "*(" + sq(in.size[0]) + "+" + sq(in.size[2]) + ")/12";
+          t[2] = m + "*(" + sq(in.size[0]) + "+" + sq(in.size[1]) + ")/12";
+          w = in.size[0].where; key = in.size[0].key;
+          break;
+        case InertiaSpec::Kind::cylinder:
+          for (int i = 0; i < 3; ++i)
+            t[i] = i == in.axis ? m + "*" + sq(in.radius) + "/2"
+                                : m + "*(3*" + sq(in.radius) + "+" + sq(in.length) + ")/12";
+          w = in.radius.where; key = in.radius.key;
+          break;
+        case InertiaSpec::Kind::sphere:
+          for (int i = 0; i < 3; ++i) t[i] = "2*" + m + "*" + sq(in.radius) + "/5";
+          w = in.radius.where; key = in.radius.key;
+          break;
+        case InertiaSpec::Kind::point: break;
+      }
+      for (int i = 0; i < 6; ++i) body.inertia[i] = add_text(t[i], w, key);
+      m_.bodies.push_back(body);
+    }
+  }
+
+  int body_ref(const std::string& name, const SourceLocation& w, const std::string& key) {
+    const int b = m_.find_body(name);
+    if (b == -2) {
+      std::vector<std::string> names{"ground"};
+      for (const auto& x : m_.bodies) names.push_back(x.name);
+      fail(w, key, "'" + name + "' is not a body" + did_you_mean(name, names) + "; bodies are: " + join_names(names));
+    }
+    return b;
+  }
+
+  void build_joints() {
+    std::set<std::string> seen;
+    int q = 0, u = 0;
+    for (const auto& js : spec_.joints) {
+      if (!is_identifier(js.name)) fail(js.where, js.key + ".name", "'" + js.name + "' is not a valid name (letters, digits, _)");
+      if (!seen.insert(js.name).second) fail(js.where, js.key + ".name", "duplicate joint name '" + js.name + "'");
+      Joint j;
+      j.name = js.name;
+      int t = -1;
+      for (std::size_t i = 0; i < kJointTypes.size(); ++i)
+        if (kJointTypes[i] == js.type) t = static_cast<int>(i);
+      if (t < 0)
+        fail(js.where, js.key + ".type", "unknown joint type '" + js.type + "'" + did_you_mean(js.type, kJointTypes) +
+                                             "; types are: " + join_names(kJointTypes));
+      j.type = static_cast<JointType>(t);
+      j.parent = body_ref(js.parent, js.where, js.key + ".parent");
+      j.child = body_ref(js.child, js.where, js.key + ".child");
+      if (j.child == -1) fail(js.where, js.key + ".child", "ground cannot be a joint's child; swap parent and child");
+      if (j.child == j.parent) fail(js.where, js.key + ".child", "a joint cannot connect body '" + js.child + "' to itself");
+      const std::string& n = j.name;
+      switch (j.type) {
+        case JointType::revolute:
+        case JointType::prismatic:
+          j.coordinate_names = {n + ".q"};
+          j.speed_names = {n + ".u"};
+          j.speeds = {SpeedAxis{j.type == JointType::revolute}};
+          break;
+        case JointType::cylindrical:
+          j.coordinate_names = {n + ".q1", n + ".q2"};
+          j.speed_names = {n + ".u1", n + ".u2"};
+          j.speeds = {SpeedAxis{true}, SpeedAxis{false}};
+          break;
+        case JointType::universal:
+          j.coordinate_names = {n + ".q1", n + ".q2"};
+          j.speed_names = {n + ".u1", n + ".u2"};
+          j.speeds = {SpeedAxis{true}, SpeedAxis{true}};
+          j.speeds[1].carriers = 1;
+          break;
+        case JointType::planar:
+          j.coordinate_names = {n + ".q1", n + ".q2", n + ".q3"};
+          j.speed_names = {n + ".u1", n + ".u2", n + ".u3"};
+          j.speeds = {SpeedAxis{false}, SpeedAxis{false}, SpeedAxis{true}};
+          j.speeds[2].carriers = 2;
+          break;
+        case JointType::spherical:
+          j.coordinate_names = {n + ".qw", n + ".qx", n + ".qy", n + ".qz"};
+          j.speed_names = {n + ".wx", n + ".wy", n + ".wz"};
+          for (int a = 0; a < 3; ++a) j.speeds.push_back(SpeedAxis{true, true, {-1, -1, -1}, a, 3});
+          j.quaternion_offset = 0;
+          break;
+        case JointType::free:
+          j.coordinate_names = {n + ".x", n + ".y", n + ".z", n + ".qw", n + ".qx", n + ".qy", n + ".qz"};
+          j.speed_names = {n + ".vx", n + ".vy", n + ".vz", n + ".wx", n + ".wy", n + ".wz"};
+          for (int a = 0; a < 3; ++a) j.speeds.push_back(SpeedAxis{false});
+          for (int a = 0; a < 3; ++a) j.speeds.push_back(SpeedAxis{true, true, {-1, -1, -1}, a, 6});
+          j.quaternion_offset = 3;
+          break;
+        case JointType::weld: break;
+      }
+      j.nq = static_cast<int>(j.coordinate_names.size());
+      j.nu = static_cast<int>(j.speed_names.size());
+      j.q_offset = q;
+      j.u_offset = u;
+      if (j.quaternion_offset >= 0) {
+        j.quaternion_offset += q;
+        m_.has_quaternions = true;
+      }
+      q += j.nq;
+      u += j.nu;
+      m_.joints.push_back(std::move(j));
+    }
+    m_.nq = q;
+    m_.nu = u;
+  }
+
+  void build_topology() {
+    const int nb = m_.nbody();
+    std::vector<int> parent_joint(nb, -1);
+    for (int ji = 0; ji < static_cast<int>(m_.joints.size()); ++ji) {
+      const Joint& j = m_.joints[ji];
+      const JointSpec& js = spec_.joints[ji];
+      if (parent_joint[j.child] >= 0)
+        fail(js.where, js.key + ".child",
+             "body '" + js.child + "' is already the child of joint '" + m_.joints[parent_joint[j.child]].name +
+                 "': this closes a kinematic loop. A scene's joints must form a tree; close loops "
+                 "with a constraint (scene.constraints, e.g. type: coincident) instead of a second joint");
+      parent_joint[j.child] = ji;
+    }
+    for (int b = 0; b < nb; ++b) {
+      if (parent_joint[b] < 0)
+        fail(spec_.bodies[b].where, spec_.bodies[b].key,
+             "body '" + m_.bodies[b].name + "' is not the child of any joint; connect it (e.g. a 'free' joint to ground)");
+      m_.bodies[b].joint = parent_joint[b];
+      m_.bodies[b].parent = m_.joints[parent_joint[b]].parent;
+    }
+    // Cycle check and topological order: walk each body to ground.
+    std::vector<int> depth(nb, -1);
+    for (int b = 0; b < nb; ++b) {
+      int steps = 0;
+      for (int x = b; x >= 0; x = m_.bodies[x].parent) {
+        if (++steps > nb) {
+          const JointSpec& js = spec_.joints[m_.bodies[b].joint];
+          fail(js.where, js.key, "the joints through body '" + m_.bodies[b].name +
+                                     "' form a cycle that never reaches ground; a scene's joints must form a tree "
+                                     "rooted at ground (close loops with a constraint)");
+        }
+      }
+      depth[b] = steps;
+    }
+    std::vector<int> order(m_.joints.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int c) {
+      return depth[m_.joints[a].child] < depth[m_.joints[c].child];
+    });
+    m_.joint_order = order;
+    m_.ancestor_speeds.assign(nb, {});
+    for (int ji : order) {
+      const Joint& j = m_.joints[ji];
+      std::vector<int> speeds = j.parent >= 0 ? m_.ancestor_speeds[j.parent] : std::vector<int>{};
+      for (int k = 0; k < j.nu; ++k) speeds.push_back(j.u_offset + k);
+      m_.ancestor_speeds[j.child] = speeds;
+    }
+  }
+
+  void build_state_names() {
+    for (const auto& j : m_.joints)
+      for (const auto& c : j.coordinate_names) m_.coordinate_names.push_back(c);
+    for (const auto& j : m_.joints)
+      for (const auto& s : j.speed_names) m_.speed_names.push_back(s);
+    m_.state_names = m_.coordinate_names;
+    m_.state_names.insert(m_.state_names.end(), m_.speed_names.begin(), m_.speed_names.end());
+    for (const auto& j : m_.joints) {
+      if (j.nq == 1) m_.initial_condition_names.push_back(j.name + ".q0");
+      else for (int i = 0; i < j.nq; ++i) m_.initial_condition_names.push_back(j.name + ".q0[" + std::to_string(i) + "]");
+    }
+    for (const auto& j : m_.joints) {
+      if (j.nu == 1) m_.initial_condition_names.push_back(j.name + ".u0");
+      else for (int i = 0; i < j.nu; ++i) m_.initial_condition_names.push_back(j.name + ".u0[" + std::to_string(i) + "]");
+    }
+    state_names_ = param_names_;
+    state_names_.add("t", {expr::VarKind::time, 0});
+    for (int i = 0; i < m_.nq; ++i) state_names_.add(m_.coordinate_names[i], {expr::VarKind::coordinate, i});
+    for (int i = 0; i < m_.nu; ++i) state_names_.add(m_.speed_names[i], {expr::VarKind::speed, i});
+  }
+
+  void build_joint_expressions() {
+    for (std::size_t ji = 0; ji < m_.joints.size(); ++ji) {
+      Joint& j = m_.joints[ji];
+      const JointSpec& js = spec_.joints[ji];
+      const bool needs_axis = j.type == JointType::revolute || j.type == JointType::prismatic ||
+                              j.type == JointType::cylindrical || j.type == JointType::planar;
+      if (j.type == JointType::universal) {
+        if (js.axes.size() != 2) fail(js.where, js.key + ".axes", "a universal joint needs 'axes: [[..], [..]]' (two axes in the parent frame)");
+        if (js.axis) fail(js.where, js.key + ".axis", "a universal joint takes 'axes' (two vectors), not 'axis'");
+        j.axis = add3(js.axes[0], false);
+        j.axis2 = add3(js.axes[1], false);
+      } else if (needs_axis) {
+        if (!js.axis) fail(js.where, js.key, std::string("missing required key 'axis' (a ") + joint_type_name(j.type) + " joint needs an axis in the parent frame)");
+        if (!js.axes.empty()) fail(js.where, js.key + ".axes", "'axes' is only for universal joints; use 'axis'");
+        j.axis = add3(*js.axis, false);
+      } else if (js.axis || !js.axes.empty()) {
+        fail(js.where, js.key + (js.axis ? ".axis" : ".axes"),
+             std::string("a ") + joint_type_name(j.type) + " joint takes no axis");
+      }
+      // Speed directions (parent-frame slots); planar in-plane axes are derived in the workspace.
+      for (auto& s : j.speeds)
+        if (!s.in_child_frame) s.direction = j.axis;
+      if (j.type == JointType::universal) j.speeds[1].direction = j.axis2;
+      j.parent_point = add3(js.parent_point, false);
+      j.child_point = add3(js.child_point, false);
+      auto initial = [&](const std::vector<ExprText>& given, int n, const char* what, std::vector<Slot>& out) {
+        if (given.empty()) {
+          for (int i = 0; i < n; ++i) {
+            const bool w = j.quaternion_offset >= 0 && std::string(what) == "q0" &&
+                           i == j.quaternion_offset - j.q_offset;
+            out.push_back(add_text(w ? "1" : "0", js.where, js.key + "." + what));
+          }
+          return;
+        }
+        if (static_cast<int>(given.size()) != n)
+          fail(given[0].where, js.key + "." + what,
+               std::string("a ") + joint_type_name(j.type) + " joint has " + std::to_string(n) + " " +
+                   (what[0] == 'q' ? "coordinate" : "speed") + (n == 1 ? "" : "s") + ", found " +
+                   std::to_string(given.size()) + " value" + (given.size() == 1 ? "" : "s"));
+        for (const auto& g : given) out.push_back(add(g, false));
+      };
+      initial(js.q0, j.nq, "q0", j.q0);
+      initial(js.u0, j.nu, "u0", j.u0);
+      if (js.spring_k || js.damper_c) {
+        if (j.nu != 1 || j.nq != 1)
+          fail(js.where, js.key + (js.spring_k ? ".spring" : ".damper"),
+               "joint springs and dampers are for 1-DOF joints (revolute, prismatic); use a spring_damper force");
+      }
+      if (js.spring_k) {
+        j.spring_k = add(*js.spring_k, true);
+        j.spring_rest = add(*js.spring_rest, false);
+      }
+      if (js.damper_c) j.damper_c = add(*js.damper_c, true);
+    }
+  }
+
+  void build_forces() {
+    std::set<std::string> seen;
+    for (const auto& fs : spec_.forces) {
+      if (!seen.insert(fs.name).second) fail(fs.where, fs.key + ".name", "duplicate force name '" + fs.name + "'");
+      Force f;
+      f.name = fs.name;
+      if (fs.type == "spring_damper") {
+        f.kind = Force::Kind::spring_damper;
+        f.body_a = body_ref(fs.body_a, fs.where, fs.key + ".body_a");
+        f.body_b = body_ref(fs.body_b, fs.where, fs.key + ".body_b");
+        if (f.body_a == f.body_b) fail(fs.where, fs.key + ".body_b", "a spring_damper needs two different bodies");
+        f.point_a = add3(fs.point_a, false);
+        f.point_b = add3(fs.point_b, false);
+        f.k = add(fs.k, true);
+        f.c = add(fs.c, true);
+        f.rest = add(fs.rest, false);
+      } else {
+        f.kind = fs.type == "force" ? Force::Kind::force : Force::Kind::torque;
+        f.body = body_ref(fs.body, fs.where, fs.key + ".body");
+        if (f.body < 0) fail(fs.where, fs.key + ".body", "forces on ground do nothing; name a body");
+        f.point = add3(fs.point, false);
+        f.vector = add3(fs.vector, true);
+        f.body_frame = fs.frame == "body";
+      }
+      m_.forces.push_back(f);
+    }
+  }
+
+  void check_nominal() {
+    const std::vector<double> p = m_.nominal_parameters();
+    const std::string why = check_parameters(m_, p.data());
+    if (!why.empty()) throw InputError({spec_.file, 0, 0}, "scene", why);
+  }
+
+  const SceneSpec& spec_;
+  const std::map<std::string, double>& overrides_;
+  Model m_;
+  expr::NameTable param_names_, state_names_;
+};
+
+}  // namespace
+
+Model build_model(const SceneSpec& spec, const std::map<std::string, double>& overrides) {
+  if (!spec.constraints.empty()) {
+    const ConstraintSpec& c = spec.constraints.front();
+    throw InputError(c.where, c.key,
+                     "constraints are not supported by this kanesens build yet (type '" + c.type + "')");
+  }
+  if (spec.bodies.empty()) throw InputError({spec.file, 0, 0}, "scene.bodies", "a scene needs at least one body");
+  return Builder(spec, overrides).build();
+}
+
+std::string check_parameters(const Model& model, const double* parameters) {
+  Workspace<double> ws(model);
+  std::string why;
+  set_parameters(model, ws, parameters);
+  for (int i = 0; i < model.nparam(); ++i)
+    if (!std::isfinite(ws.parameters[i])) return "parameter '" + model.parameters[i].name + "' is not finite";
+  for (Slot s : model.parameter_slots)
+    if (!std::isfinite(ws.values[s]))
+      return "expression '" + model.expressions[s].text() + "' is not finite (" + std::to_string(ws.values[s]) + ")";
+  for (int b = 0; b < model.nbody(); ++b) {
+    const std::string& name = model.bodies[b].name;
+    const double m = ws.mass[b];
+    if (!(m > 0)) return "body '" + name + "': mass must be > 0, found " + std::to_string(m);
+    const Eigen::Matrix3d I = ws.inertia_body[b];
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
+    const Eigen::Vector3d ev = eig.eigenvalues();
+    const double scale = std::max(1e-300, ev.cwiseAbs().maxCoeff());
+    if (ev.minCoeff() < -1e-12 * scale)
+      return "body '" + name + "': inertia is not positive semi-definite (principal moments " +
+             std::to_string(ev[0]) + ", " + std::to_string(ev[1]) + ", " + std::to_string(ev[2]) + ")";
+    if (ev[0] + ev[1] < ev[2] - 1e-9 * scale)
+      return "body '" + name + "': inertia violates the triangle inequality (principal moments " +
+             std::to_string(ev[0]) + " + " + std::to_string(ev[1]) + " < " + std::to_string(ev[2]) + ")";
+  }
+  for (const auto& j : model.joints) {
+    if (j.axis[0] >= 0 && !(ws.joint_axis[&j - model.joints.data()].norm() > 0))
+      return "joint '" + j.name + "': axis has zero length";
+    if (j.axis2[0] >= 0 && !(ws.joint_axis2[&j - model.joints.data()].norm() > 0))
+      return "joint '" + j.name + "': second axis has zero length";
+  }
+  (void)why;
+  return "";
+}
+
+}  // namespace kanesens

@@ -1,0 +1,20 @@
+// SceneSpec → Model: validates everything (names, references, topology, axes, masses, inertias)
+// and compiles every expression once. Errors are InputErrors naming file:line:column and key.
+#pragma once
+#include <map>
+#include <string>
+
+#include "model/model.hpp"
+#include "scene/scene_spec.hpp"
+
+namespace kanesens {
+
+// `overrides`: parameter name → value (from --set), replacing the scene's value.
+Model build_model(const SceneSpec& spec, const std::map<std::string, double>& overrides = {});
+
+// Checks physical validity of a parameter set (mass > 0, inertia positive semi-definite and
+// satisfying the triangle inequality, non-zero axes, finite values). Returns "" when valid, else
+// a message naming the body/joint. Used at build (nominal values) and for every sample.
+std::string check_parameters(const Model& model, const double* parameters);
+
+}  // namespace kanesens

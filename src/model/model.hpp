@@ -1,0 +1,104 @@
+// The immutable Model: topology, coordinates, speeds, parameters and compiled expressions of a
+// scene. Built once by build_model(); evaluated through Workspace<Scalar> (model/workspace.hpp).
+//
+// Notation (docs/scene-format.md): nq coordinates q, nu speeds u, state y = [q; u].
+// Every number of the scene is an expression stored in `expressions`; a "slot" is an index into
+// it and into Workspace::values. Slots whose expression reads t, q or u are re-evaluated each
+// right-hand side (state_slots); the rest once per parameter set (parameter_slots).
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "expr/expression.hpp"
+#include "scene/scene_spec.hpp"
+
+namespace kanesens {
+
+enum class JointType { revolute, prismatic, cylindrical, universal, planar, spherical, free, weld };
+const char* joint_type_name(JointType t);
+
+using Slot = int;
+using Slot3 = std::array<Slot, 3>;
+
+// One generalized speed's motion: a rotation about, or translation along, a unit direction.
+// The direction is a parent-frame vector (slot), or a child-frame unit vector e_m (spherical and
+// free rotations). `carriers` = how many preceding speeds of the same joint move the axis
+// (0: fixed in the parent; universal's 2nd axis: 1; planar rotation: 2; spherical/free: all).
+struct SpeedAxis {
+  bool rotation = true;
+  bool in_child_frame = false;
+  Slot3 direction{-1, -1, -1};  // parent-frame direction (when !in_child_frame), normalised
+  int child_axis = 0;           // 0, 1, 2 for e_x, e_y, e_z (when in_child_frame)
+  int carriers = 0;
+};
+
+struct Joint {
+  std::string name;
+  JointType type = JointType::revolute;
+  int parent = -1;  // body index, -1 = ground
+  int child = -1;
+  int q_offset = 0, nq = 0, u_offset = 0, nu = 0;
+  int quaternion_offset = -1;  // index in q of the quaternion's w, or -1
+  std::vector<SpeedAxis> speeds;
+  Slot3 axis{-1, -1, -1};   // first axis (revolute, prismatic, cylindrical, planar normal, universal a1)
+  Slot3 axis2{-1, -1, -1};  // universal a2
+  Slot3 parent_point{-1, -1, -1}, child_point{-1, -1, -1};
+  Slot spring_k = -1, spring_rest = -1, damper_c = -1;
+  std::vector<Slot> q0, u0;  // one slot per coordinate / speed
+  std::vector<std::string> coordinate_names, speed_names;
+};
+
+struct Body {
+  std::string name;
+  Slot mass = -1;
+  std::array<Slot, 6> inertia{};  // xx, yy, zz, xy, yz, xz of the central tensor, body frame
+  int joint = -1;                 // the joint whose child this body is
+  int parent = -1;                // parent body, -1 = ground
+};
+
+struct Force {
+  enum class Kind { spring_damper, force, torque };
+  std::string name;
+  Kind kind = Kind::force;
+  int body_a = -1, body_b = -1;  // spring_damper (-1 = ground)
+  Slot3 point_a{}, point_b{};
+  Slot k = -1, c = -1, rest = -1;
+  int body = -1;  // force, torque
+  Slot3 point{}, vector{};
+  bool body_frame = false;
+};
+
+struct Parameter {
+  std::string name;
+  expr::Expression value;  // constant, or derived from earlier parameters
+  bool derived = false;
+  double nominal = 0;
+};
+
+struct Model {
+  std::string name;
+  SceneSpec spec;  // what it was built from (text kept for provenance)
+  std::vector<Parameter> parameters;
+  std::vector<Body> bodies;         // ground excluded
+  std::vector<Joint> joints;        // declaration order (= order of q and u)
+  std::vector<int> joint_order;     // topological: parents before children
+  std::vector<std::vector<int>> ancestor_speeds;  // per body: speeds moving it, root first
+  std::vector<Force> forces;
+  Slot3 gravity{};
+  int nq = 0, nu = 0;
+  std::vector<std::string> coordinate_names, speed_names, state_names;
+  std::vector<std::string> initial_condition_names;  // "J.q0", "J.q0[2]", "J.u0", ...
+  std::vector<expr::Expression> expressions;
+  std::vector<Slot> parameter_slots, state_slots;
+  bool has_quaternions = false;
+
+  int nbody() const { return static_cast<int>(bodies.size()); }
+  int nstate() const { return nq + nu; }
+  int nparam() const { return static_cast<int>(parameters.size()); }
+  int find_parameter(const std::string& name) const;  // -1 if absent
+  int find_body(const std::string& name) const;       // -1 ground, -2 absent
+  std::vector<double> nominal_parameters() const;
+};
+
+}  // namespace kanesens

@@ -1,0 +1,53 @@
+// Workspace<S>: all scratch for evaluating a Model with scalar S (double, or Dual for exact
+// derivatives). Allocated once (constructor); the evaluation functions never allocate.
+// Sizes in comments: nb bodies, nj joints, nu speeds.
+#pragma once
+#include <vector>
+
+#include "kane/spatial.hpp"
+#include "model/model.hpp"
+
+namespace kanesens {
+
+template <class S>
+struct Workspace {
+  explicit Workspace(const Model& model);
+
+  // Parameter stage (set_parameters).
+  std::vector<S> parameters;        // np
+  std::vector<S> values;            // one per expression slot
+  std::vector<S> mass;              // nb
+  std::vector<Mat3<S>> inertia_body;  // nb, central, body frame
+  std::vector<Vec3<S>> joint_axis, joint_axis2, plane_e1, plane_e2;  // nj, unit (0 if degenerate)
+  std::vector<Vec3<S>> parent_point, child_point;                    // nj
+  Vec3<S> gravity;
+
+  // Position stage (q).
+  std::vector<Mat3<S>> R;        // nb: body → world rotation
+  std::vector<Vec3<S>> com;      // nb: mass-center position, world
+  std::vector<Vec3<S>> joint_point;  // nj: joint point Q (on the child), world
+  std::vector<Vec6<S>> partial;  // nu: spatial partial velocity of each speed, (Ω_k, L_k + Q×Ω_k)
+  std::vector<Mat3<S>> inertia_world;  // nb
+  std::vector<Mat6<S>> spatial_inertia;  // nb, at O
+
+  // Velocity stage (u).
+  std::vector<Vec6<S>> velocity;   // nb: spatial velocity (ω, v_O)
+  std::vector<Vec6<S>> bias_acceleration;  // nb: spatial acceleration with u̇ = 0
+
+  // Dynamics.
+  std::vector<Mat6<S>> composite_inertia;  // nb: subtree spatial inertia at O
+  std::vector<Vec6<S>> wrench;     // nb: applied minus inertial (u̇ = 0) force vector at O, then
+                                   //     summed over the subtree
+  MatX<S> mass_matrix;             // nu×nu
+  VecX<S> forcing;                 // nu
+  MatX<S> cholesky;                // nu×nu, lower factor of mass_matrix
+  VecX<S> udot;                    // nu
+  VecX<S> qdot;                    // nq
+  S time = S(0);
+};
+
+// Evaluates parameter-only expressions and the derived per-body/per-joint constants.
+template <class S>
+void set_parameters(const Model& model, Workspace<S>& ws, const S* parameters);
+
+}  // namespace kanesens
