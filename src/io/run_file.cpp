@@ -1,0 +1,220 @@
+#include "io/run_file.hpp"
+
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+
+#include "io/hdf5_text.hpp"
+#include "io/run_schema.hpp"
+
+namespace kanesens::io {
+namespace {
+
+// File access through MPI-IO. Format bounds 1.8: superblock version 2, which has no "file is
+// open for writing" flag (the 1.10 format's v3 superblock does, and a file left by a killed
+// run would then refuse to open until `h5clear -s`); 1.8 object headers also store root
+// attributes over 64 KiB (long scene_yaml texts) in dense storage instead of failing.
+PropertyList mpio_access(MPI_Comm comm, const std::string& path) {
+  PropertyList fapl(H5Pcreate(H5P_FILE_ACCESS), "H5Pcreate(file access, " + path + ")");
+  check(H5Pset_fapl_mpio(fapl.get(), comm, MPI_INFO_NULL), "H5Pset_fapl_mpio(" + path + ")");
+  check(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18),
+        "H5Pset_libver_bounds(" + path + ")");
+  return fapl;
+}
+
+// Evaluates `f` on rank 0 only (file system queries) and gives every rank its result, so that
+// all ranks take the same branch (and throw the same error) in collective code.
+template <class F>
+int on_root(MPI_Comm comm, F f) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int value = rank == 0 ? f() : 0;
+  MPI_Bcast(&value, 1, MPI_INT, 0, comm);
+  return value;
+}
+
+bool file_exists(const std::string& path) {
+  std::error_code ec;
+  return std::filesystem::exists(path, ec);
+}
+
+void expect_size(bool recorded, std::size_t given, std::size_t wanted, const char* what,
+                 std::int64_t index) {
+  if (recorded ? given == wanted : given == 0) return;
+  throw std::invalid_argument("sample " + std::to_string(index) + ": " + what + " has " +
+                              std::to_string(given) + " values, the run file expects " +
+                              std::to_string(recorded ? wanted : 0) +
+                              (recorded ? "" : " (not recorded)"));
+}
+
+}  // namespace
+
+RunFile RunFile::create(MPI_Comm comm, const std::string& path, const RunLayout& layout,
+                        bool overwrite) {
+  silence_hdf5_errors();
+  validate_layout(layout);
+  if (!overwrite && on_root(comm, [&] { return file_exists(path) ? 1 : 0; })) {
+    throw std::runtime_error("output file '" + path +
+                             "' already exists; pass --overwrite to replace it or --resume to "
+                             "continue it");
+  }
+  // Built under a temporary name and renamed once its metadata is on disk, so `path` never
+  // names a half-made file, even if the run is killed during creation.
+  const std::string partial = path + ".partial";
+  const PropertyList fapl = mpio_access(comm, partial);
+  File file(H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+            "H5Fcreate(" + partial + ")");
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  write_schema(file.get(), layout, rank, message_size);
+  check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush(" + partial + ")");
+  std::string rename_error;
+  if (on_root(comm, [&] {
+        std::error_code ec;
+        std::filesystem::rename(partial, path, ec);
+        rename_error = ec.message();
+        return ec ? 1 : 0;
+      })) {
+    throw std::runtime_error("cannot rename '" + partial + "' to '" + path + "'" +
+                             (rename_error.empty() ? "" : ": " + rename_error));
+  }
+  return RunFile(path, std::move(file), layout);
+}
+
+RunFile RunFile::open_for_resume(MPI_Comm comm, const std::string& path, const RunLayout& layout) {
+  silence_hdf5_errors();
+  validate_layout(layout);
+  if (!on_root(comm, [&] { return file_exists(path) ? 1 : 0; })) {
+    throw std::runtime_error("cannot resume '" + path +
+                             "': the file does not exist (run without --resume to create it)");
+  }
+  const PropertyList fapl = mpio_access(comm, path);
+  File file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), "H5Fopen(" + path + ")");
+  verify_schema(file.get(), path, layout);
+  return RunFile(path, std::move(file), layout);
+}
+
+RunFile::RunFile(std::string path, File file, const RunLayout& l)
+    : path_(std::move(path)),
+      file_(std::move(file)),
+      independent_(H5Pcreate(H5P_DATASET_XFER), "H5Pcreate(dataset transfer)"),
+      nsamples_(l.nsamples),
+      ntime_(l.times.size()),
+      nstate_(l.state_names.size()),
+      nparameter_(has_parameters(l) ? l.parameter_names.size() : 0),
+      nconstraint_(has_multipliers(l) ? l.constraint_names.size() : 0),
+      nsensitivity_(has_sensitivities(l) ? l.sensitivity_names.size() : 0) {
+  check(H5Pset_dxpl_mpio(independent_.get(), H5FD_MPIO_INDEPENDENT), "H5Pset_dxpl_mpio");
+  auto open = [&](const std::string& p) {  // collective, like every H5Dopen under MPI-IO
+    return Dataset(H5Dopen2(file_.get(), p.c_str(), H5P_DEFAULT), "H5Dopen2(" + p + ")");
+  };
+  if (has_parameters(l)) parameters_ = open("/parameters");
+  initial_state_ = open("/initial_state");
+  if (has_states(l)) states_ = open("/states");
+  if (has_multipliers(l)) multipliers_ = open("/multipliers");
+  if (has_sensitivities(l)) sensitivities_ = open("/sensitivities");
+  for (const auto& name : l.output_names) outputs_.push_back(open(output_path(name)));
+  for (const auto& name : l.stat_names) stats_.push_back(open(stat_path(name)));
+  message_ = open(kMessagePath);
+  status_ = open(kStatusPath);
+}
+
+RunFile::~RunFile() {
+  try {
+    close();
+  } catch (...) {  // a destructor never throws; close() explicitly to see the error
+  }
+}
+
+std::vector<int> RunFile::read_status() const {
+  if (!file_) throw std::logic_error("read_status on a closed run file");
+  std::vector<int> status(static_cast<std::size_t>(nsamples_));
+  check(H5Dread(status_.get(), H5T_NATIVE_INT, H5S_ALL, H5S_ALL, independent_.get(), status.data()),
+        "H5Dread(" + path_ + ":/status)");
+  return status;
+}
+
+void RunFile::write_sample(const SampleRow& row) {
+  if (!file_) throw std::logic_error("write_sample on a closed run file");
+  const std::int64_t i = row.index;
+  if (i < 0 || i >= nsamples_) {
+    throw std::invalid_argument("sample index " + std::to_string(i) + " outside 0.." +
+                                std::to_string(nsamples_ - 1) + " of " + path_);
+  }
+  // Check every size before writing anything: a bad row leaves the file untouched.
+  expect_size(bool(parameters_), row.parameters.size(), nparameter_, "parameters", i);
+  expect_size(true, row.initial_state.size(), nstate_, "initial_state", i);
+  expect_size(bool(states_), row.states.size(), ntime_ * nstate_, "states", i);
+  expect_size(bool(multipliers_), row.multipliers.size(), ntime_ * nconstraint_, "multipliers", i);
+  expect_size(bool(sensitivities_), row.sensitivities.size(), ntime_ * nstate_ * nsensitivity_,
+              "sensitivities", i);
+  expect_size(true, row.outputs.size(), outputs_.size() * ntime_, "outputs", i);
+  expect_size(true, row.stats.size(), stats_.size(), "stats", i);
+
+  const hid_t f64 = H5T_NATIVE_DOUBLE;
+  if (parameters_) write_row(parameters_, "/parameters", f64, row.parameters.data(), i);
+  write_row(initial_state_, "/initial_state", f64, row.initial_state.data(), i);
+  if (states_) write_row(states_, "/states", f64, row.states.data(), i);
+  if (multipliers_) write_row(multipliers_, "/multipliers", f64, row.multipliers.data(), i);
+  if (sensitivities_) {
+    write_row(sensitivities_, "/sensitivities", f64, row.sensitivities.data(), i);
+  }
+  for (std::size_t k = 0; k < outputs_.size(); ++k) {
+    write_row(outputs_[k], "/outputs", f64, row.outputs.data() + k * ntime_, i);
+  }
+  for (std::size_t k = 0; k < stats_.size(); ++k) {
+    write_row(stats_[k], "/solver_stats", f64, row.stats.data() + k, i);
+  }
+  std::vector<char> message(message_size, '\0');
+  const std::string fitted = fit_utf8(row.message, message_size);
+  std::memcpy(message.data(), fitted.data(), fitted.size());
+  write_row(message_, kMessagePath, make_string_type(message_size).get(), message.data(), i);
+  // Last: a status of 1 on disk means every value above is on disk too.
+  const int status = row.status;
+  write_row(status_, kStatusPath, H5T_NATIVE_INT, &status, i);
+}
+
+void RunFile::write_row(const Dataset& dataset, const std::string& path, hid_t memtype,
+                        const void* data, std::int64_t index) const {
+  const std::string where = "(" + path_ + ":" + path + ", sample " + std::to_string(index) + ")";
+  Dataspace file_space(H5Dget_space(dataset.get()), "H5Dget_space" + where);
+  const int rank = H5Sget_simple_extent_ndims(file_space.get());
+  check(rank, "H5Sget_simple_extent_ndims" + where);
+  std::vector<hsize_t> count(static_cast<std::size_t>(rank)), start(count.size(), 0);
+  check(H5Sget_simple_extent_dims(file_space.get(), count.data(), nullptr),
+        "H5Sget_simple_extent_dims" + where);
+  start[0] = static_cast<hsize_t>(index);
+  count[0] = 1;
+  check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
+                            nullptr),
+        "H5Sselect_hyperslab" + where);
+  hsize_t elements = 1;
+  for (const hsize_t c : count) elements *= c;
+  Dataspace memory_space(H5Screate_simple(1, &elements, nullptr), "H5Screate_simple" + where);
+  check(H5Dwrite(dataset.get(), memtype, memory_space.get(), file_space.get(), independent_.get(),
+                 data),
+        "H5Dwrite" + where);
+}
+
+void RunFile::flush() {
+  if (file_) check(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), "H5Fflush(" + path_ + ")");
+}
+
+void RunFile::close() {
+  if (!file_) return;
+  // Datasets first: with the MPI-IO driver a file closes only when nothing in it is open.
+  parameters_.reset();
+  initial_state_.reset();
+  states_.reset();
+  multipliers_.reset();
+  sensitivities_.reset();
+  outputs_.clear();
+  stats_.clear();
+  message_.reset();
+  status_.reset();
+  independent_.reset();
+  file_.close("H5Fclose(" + path_ + ")");
+}
+
+}  // namespace kanesens::io

@@ -1,0 +1,101 @@
+// The run's HDF5 file (DESIGN §6): one file per `kanesens run`, written by all ranks.
+//
+// Everything that is metadata (datasets, dimension scales, attributes) is created, filled and
+// flushed by RunFile::create before any sample is written; afterwards only raw data changes,
+// one sample row at a time, /status last. So a run killed at any point (kill -9 included)
+// leaves a file h5py can open in which every sample with status 1 is intact, and --resume
+// (RunFile::open_for_resume + read_status) finishes exactly the samples whose status is 0.
+// The schema itself is written down in io/run_schema.hpp.
+#pragma once
+#include <mpi.h>
+
+#include <cstdint>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "io/hdf5_handle.hpp"
+
+namespace kanesens::io {
+
+// What a run records; sizes in brackets. Zero-sized lists are allowed except `times` and
+// `state_names`; a dimension of size 0 and the datasets using it are simply not created.
+struct RunLayout {
+  std::vector<double> times;                   // output times [T], seconds
+  std::vector<std::string> state_names;        // [nstate], e.g. "shoulder.q", "rod1.wx"
+  std::vector<std::string> parameter_names;    // varied inputs (parameters, initial conditions) [P]
+  std::vector<std::string> sensitivity_names;  // [S]
+  std::vector<std::string> constraint_names;   // one per multiplier column [C]
+  std::vector<std::string> output_names;       // e.g. "energy", "constraint_residual"
+  std::vector<std::string> stat_names;         // e.g. "steps", "rhs_evals", "wall_seconds"
+  std::int64_t nsamples = 0;
+  bool record_states = true, record_sensitivities = false, record_multipliers = false;
+  std::map<std::string, std::string> text_attributes;  // root: kanesens_version, scene_yaml, ...
+  std::map<std::string, double> number_attributes;     // root: mpi_ranks, seed, ...
+};
+
+// One sample's results, written once when the sample ends. A span of a dataset the file does
+// not hold (not recorded, or a dimension of size 0) must be empty.
+struct SampleRow {
+  std::int64_t index = 0;
+  int status = 0;                         // 1 ok, < 0 failure code (0 = not run, the fill value)
+  std::string message;                    // why it failed; cut to RunFile::message_size bytes
+  std::span<const double> parameters;     // [P]
+  std::span<const double> initial_state;  // [nstate]
+  std::span<const double> states;         // [T × nstate], row-major [time][state]
+  std::span<const double> multipliers;    // [T × C], [time][constraint]
+  std::span<const double> sensitivities;  // [T × nstate × S], [time][state][sensitivity]
+  std::span<const double> outputs;        // [noutputs × T], [output][time]
+  std::span<const double> stats;          // [nstats]
+};
+
+class RunFile {
+ public:
+  static constexpr std::size_t message_size = 160;  // bytes per /message entry
+
+  // Collective over comm. Creates `path` with every dataset of `layout` preallocated and
+  // filled (status 0, NaN), dimension scales and root attributes, flushed to disk. The file is
+  // built as `path`.partial and renamed when complete. Throws if `path` exists and !overwrite.
+  static RunFile create(MPI_Comm comm, const std::string& path, const RunLayout& layout,
+                        bool overwrite);
+  // Collective over comm. Opens an existing run file to continue it; throws naming the first
+  // difference when it was written for another layout (names, times, nsamples, what is
+  // recorded, or the "study_hash" text attribute when both have one).
+  static RunFile open_for_resume(MPI_Comm comm, const std::string& path, const RunLayout& layout);
+
+  RunFile(RunFile&& other) noexcept = default;
+  RunFile& operator=(RunFile&&) = delete;
+  RunFile(const RunFile&) = delete;
+  RunFile& operator=(const RunFile&) = delete;
+  ~RunFile();  // close(), errors swallowed (collective: every rank must destroy its RunFile)
+
+  // /status of every sample [nsamples]: 0 not run, 1 ok, < 0 failure code. Independent read,
+  // any rank may call it alone.
+  std::vector<int> read_status() const;
+  // Independent I/O from whichever rank ran the sample; no collective call. Writes the data
+  // first and /status last. Throws std::invalid_argument on a wrong index or span size.
+  void write_sample(const SampleRow& row);
+  void flush();  // collective (H5Fflush with the MPI-IO driver)
+  void close();  // collective; further calls do nothing
+
+  const std::string& path() const { return path_; }
+  std::int64_t nsamples() const { return nsamples_; }
+
+ private:
+  RunFile(std::string path, File file, const RunLayout& layout);
+  // Writes row `index` of `dataset` (all its other dimensions) from `data`, independent I/O.
+  void write_row(const Dataset& dataset, const std::string& path, hid_t memtype, const void* data,
+                 std::int64_t index) const;
+
+  std::string path_;
+  File file_;  // declared first: destroyed after the datasets below
+  PropertyList independent_;
+  std::int64_t nsamples_ = 0;
+  std::size_t ntime_ = 0, nstate_ = 0, nparameter_ = 0, nconstraint_ = 0, nsensitivity_ = 0;
+  Dataset parameters_, initial_state_, states_, multipliers_, sensitivities_;
+  std::vector<Dataset> outputs_, stats_;
+  Dataset message_, status_;
+};
+
+}  // namespace kanesens::io

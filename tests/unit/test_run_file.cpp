@@ -1,0 +1,229 @@
+// io::RunFile on one rank (MPI singleton): create, write, read back, refusals, resume checks.
+// The multi-rank, kill -9 and xarray checks are tests/mpi/test_run_file_parallel.sh.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <mpi.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "io/hdf5_text.hpp"
+#include "io/run_file.hpp"
+
+namespace kanesens::io {
+namespace {
+
+class MpiEnvironment : public ::testing::Environment {
+ public:
+  void SetUp() override { MPI_Init(nullptr, nullptr); }
+  void TearDown() override { MPI_Finalize(); }
+};
+[[maybe_unused]] const auto* const kMpi = ::testing::AddGlobalTestEnvironment(new MpiEnvironment);
+
+RunLayout small_layout() {
+  RunLayout l;
+  l.times = {0.0, 0.5, 1.0};
+  l.state_names = {"q", "u"};
+  l.parameter_names = {"k"};
+  l.sensitivity_names = {"k"};
+  l.constraint_names = {"c"};
+  l.output_names = {"energy"};
+  l.stat_names = {"steps"};
+  l.nsamples = 3;
+  l.record_sensitivities = l.record_multipliers = true;
+  l.text_attributes = {{"study_hash", "abc"}, {"scene_yaml", "scene: {}\n"}};
+  l.number_attributes = {{"seed", 7}};
+  return l;
+}
+
+// A row for small_layout() whose values all equal 100 * index + position.
+struct Row {
+  std::vector<double> p{0}, x0{0, 0}, states{0, 0, 0, 0, 0, 0}, lambda{0, 0, 0},
+      sens{0, 0, 0, 0, 0, 0}, outputs{0, 0, 0}, stats{0};
+  SampleRow row(std::int64_t i, int status) {
+    for (auto* v : {&p, &x0, &states, &lambda, &sens, &outputs, &stats}) {
+      for (std::size_t k = 0; k < v->size(); ++k) (*v)[k] = 100.0 * i + k;
+    }
+    return {i, status, status == 1 ? "" : "failed", p, x0, states, lambda, sens, outputs, stats};
+  }
+};
+
+// Reads a whole float64 dataset with the serial (sec2) driver, as a post-processing tool would.
+std::vector<double> read_doubles(const std::string& path, const std::string& dataset) {
+  File file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "H5Fopen");
+  Dataset d(H5Dopen2(file.get(), dataset.c_str(), H5P_DEFAULT), "H5Dopen2");
+  Dataspace space(H5Dget_space(d.get()), "H5Dget_space");
+  std::vector<double> values(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get())));
+  check(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), "read");
+  return values;
+}
+
+bool has_dataset(const std::string& path, const std::string& dataset) {
+  File file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "H5Fopen");
+  return H5Lexists(file.get(), dataset.c_str(), H5P_DEFAULT) > 0;
+}
+
+class RunFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("kanesens_test_run_file_" + std::to_string(getpid()));
+    std::filesystem::create_directories(dir_);
+    path_ = (dir_ / "run.h5").string();
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+  std::string path_;
+};
+
+TEST_F(RunFileTest, WritesRowsAndReadsThemBack) {
+  const RunLayout layout = small_layout();
+  Row row;
+  {
+    RunFile file = RunFile::create(MPI_COMM_WORLD, path_, layout, false);
+    EXPECT_EQ(file.read_status(), (std::vector<int>{0, 0, 0}));
+    file.write_sample(row.row(2, 1));
+    file.write_sample(row.row(0, -3));
+    EXPECT_EQ(file.read_status(), (std::vector<int>{-3, 0, 1}));
+  }  // destructor closes
+  EXPECT_FALSE(std::filesystem::exists(path_ + ".partial"));
+  const auto states = read_doubles(path_, "/states");  // [sample][time][state]
+  ASSERT_EQ(states.size(), 3u * 3 * 2);
+  EXPECT_EQ(states[2 * 6 + 5], 205.0);
+  EXPECT_TRUE(std::isnan(states[1 * 6]));  // sample 1 never written: NaN fill
+  EXPECT_EQ(read_doubles(path_, "/sensitivities")[2 * 6 + 3], 203.0);
+  EXPECT_EQ(read_doubles(path_, "/multipliers")[2 * 3 + 1], 201.0);
+  EXPECT_EQ(read_doubles(path_, "/outputs/energy")[2 * 3 + 2], 202.0);
+  const auto steps = read_doubles(path_, "/solver_stats/steps");
+  EXPECT_EQ(steps[0], 0.0);
+  EXPECT_TRUE(std::isnan(steps[1]));
+  EXPECT_EQ(steps[2], 200.0);
+  EXPECT_EQ(read_doubles(path_, "/time"), layout.times);
+  EXPECT_EQ(read_doubles(path_, "/sample"), (std::vector<double>{0, 1, 2}));
+
+  File file(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "H5Fopen");
+  Dataset names(H5Dopen2(file.get(), "/state", H5P_DEFAULT), "H5Dopen2");
+  EXPECT_EQ(read_strings(names.get(), "/state"), layout.state_names);
+  Dataset message(H5Dopen2(file.get(), "/message", H5P_DEFAULT), "H5Dopen2");
+  EXPECT_EQ(read_strings(message.get(), "/message"), (std::vector<std::string>{"failed", "", ""}));
+  EXPECT_EQ(read_text_attribute(file.get(), "study_hash"), "abc");
+}
+
+TEST_F(RunFileTest, RefusesToReplaceAnExistingFileUnlessOverwrite) {
+  RunFile::create(MPI_COMM_WORLD, path_, small_layout(), false).close();
+  try {
+    RunFile::create(MPI_COMM_WORLD, path_, small_layout(), false);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path_), std::string::npos) << what;
+    EXPECT_NE(what.find("--overwrite"), std::string::npos) << what;
+    EXPECT_NE(what.find("--resume"), std::string::npos) << what;
+  }
+  EXPECT_NO_THROW(RunFile::create(MPI_COMM_WORLD, path_, small_layout(), true));
+}
+
+TEST_F(RunFileTest, ResumeKeepsWrittenSamples) {
+  Row row;
+  {
+    RunFile file = RunFile::create(MPI_COMM_WORLD, path_, small_layout(), false);
+    file.write_sample(row.row(1, 1));
+  }
+  RunFile file = RunFile::open_for_resume(MPI_COMM_WORLD, path_, small_layout());
+  EXPECT_EQ(file.read_status(), (std::vector<int>{0, 1, 0}));
+  file.write_sample(row.row(0, 1));
+  EXPECT_EQ(file.read_status(), (std::vector<int>{1, 1, 0}));
+}
+
+TEST_F(RunFileTest, ResumeRefusesAnotherLayout) {
+  RunFile::create(MPI_COMM_WORLD, path_, small_layout(), false).close();
+  auto expect_refused = [&](const RunLayout& other, const std::string& says) {
+    try {
+      RunFile::open_for_resume(MPI_COMM_WORLD, path_, other);
+      ADD_FAILURE() << "expected an error saying " << says;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path_), std::string::npos) << e.what();
+    }
+  };
+  RunLayout l = small_layout();
+  l.state_names = {"q", "v"};
+  expect_refused(l, "state names [q, u] differ from this study's [q, v]");
+  l = small_layout();
+  l.times.back() = 2.0;
+  expect_refused(l, "output times differ");
+  l = small_layout();
+  l.nsamples = 4;
+  expect_refused(l, "it has 3 samples, this study 4");
+  l = small_layout();
+  l.text_attributes["study_hash"] = "xyz";
+  expect_refused(l, "study_hash abc differs from this study's xyz");
+  l = small_layout();
+  l.record_multipliers = false;
+  expect_refused(l, "constraint names [c] differ from this study's []");
+  l = small_layout();
+  l.stat_names.push_back("rhs_evals");
+  expect_refused(l, "no solver statistic 'rhs_evals'");
+}
+
+TEST_F(RunFileTest, ResumeOfAMissingFileSaysSo) {
+  try {
+    RunFile::open_for_resume(MPI_COMM_WORLD, path_, small_layout());
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(RunFileTest, RejectsRowsOfTheWrongSizeWithoutWriting) {
+  RunFile file = RunFile::create(MPI_COMM_WORLD, path_, small_layout(), false);
+  Row row;
+  SampleRow bad = row.row(0, 1);
+  bad.states = bad.states.first(5);
+  EXPECT_THROW(file.write_sample(bad), std::invalid_argument);
+  SampleRow out_of_range = row.row(0, 1);
+  out_of_range.index = 3;
+  EXPECT_THROW(file.write_sample(out_of_range), std::invalid_argument);
+  EXPECT_EQ(file.read_status(), (std::vector<int>{0, 0, 0}));
+}
+
+TEST_F(RunFileTest, EmptyDimensionsCreateNoDatasets) {
+  RunLayout l = small_layout();
+  l.constraint_names.clear();
+  l.record_sensitivities = false;
+  l.parameter_names.clear();
+  l.output_names.clear();
+  {
+    RunFile file = RunFile::create(MPI_COMM_WORLD, path_, l, false);
+    const std::vector<double> x0{1, 2}, states(6, 3.0), stats{4}, lambda(3, 0.0);
+    SampleRow row;  // (designated initializers that skip members warn under -Wextra)
+    row.status = 1;
+    row.initial_state = x0;
+    row.states = states;
+    row.stats = stats;
+    file.write_sample(row);
+    row.index = 1;
+    row.multipliers = lambda;  // not recorded: an error
+    EXPECT_THROW(file.write_sample(row), std::invalid_argument);
+  }
+  for (const char* absent : {"/multipliers", "/constraint", "/sensitivities", "/sensitivity",
+                             "/parameters", "/parameter", "/outputs", "/output"}) {
+    EXPECT_FALSE(has_dataset(path_, absent)) << absent;
+  }
+  EXPECT_TRUE(has_dataset(path_, "/states"));
+}
+
+TEST_F(RunFileTest, StoresLongTextAttributes) {
+  RunLayout l = small_layout();
+  const std::string scene(100000, 'y');  // above the 64 KiB of a compact attribute
+  l.text_attributes["scene_yaml"] = scene;
+  RunFile::create(MPI_COMM_WORLD, path_, l, false).close();
+  File file(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "H5Fopen");
+  EXPECT_EQ(read_text_attribute(file.get(), "scene_yaml"), scene);
+}
+
+}  // namespace
+}  // namespace kanesens::io
