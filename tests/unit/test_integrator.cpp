@@ -1,0 +1,561 @@
+// Tests of solve/integrator against hand-written OdeProblems:
+// - damped oscillator sensitivities against the analytic reference (REFERENCES.md §5.1),
+//   for every sensitivity method, exact and DQ sensitivity RHS;
+// - failures are statuses with messages (throwing, NaN, too much work), not crashes;
+// - method/Jacobian variants agree; one Integrator reused equals fresh ones.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <cvodes/cvodes.h>
+
+#include "solve/integrator.hpp"
+
+namespace ks = kanesens::solve;
+
+namespace {
+
+// m ẍ + c ẋ + k x = 0, y = (x, v). Sensitivity parameters (x0, v0, m, c, k).
+// p_ holds (x0-dummy, v0-dummy, m, c, k) so CVODES's DQ sensitivities can perturb m, c, k.
+class Oscillator : public ks::OdeProblem {
+ public:
+  Oscillator(double x0 = 1, double v0 = 0, double m = 1, double c = 0.4, double k = 4)
+      : x0_(x0), v0_(v0), p_{0, 0, m, c, k} {}
+
+  int size() const override { return 2; }
+  void initial_state(double* y0) const override {
+    y0[0] = x0_;
+    y0[1] = v0_;
+  }
+  void rhs(double /*t*/, const double* y, double* ydot) override {
+    ++rhs_calls;
+    const double m = p_[2], c = p_[3], k = p_[4];
+    ydot[0] = y[1];
+    ydot[1] = -(c * y[1] + k * y[0]) / m;
+  }
+  bool has_jacobian() const override { return true; }
+  void jacobian(double, const double*, const double*, double* J) override {
+    const double m = p_[2], c = p_[3], k = p_[4];
+    J[0 + 0 * 2] = 0;
+    J[0 + 1 * 2] = 1;
+    J[1 + 0 * 2] = -k / m;
+    J[1 + 1 * 2] = -c / m;
+  }
+  int num_sensitivities() const override { return with_sens ? 5 : 0; }
+  void initial_sensitivity(int i, double* s0) const override {
+    s0[0] = i == 0 ? 1 : 0;
+    s0[1] = i == 1 ? 1 : 0;
+  }
+  bool has_sensitivity_rhs() const override { return true; }
+  void sensitivity_rhs(double, const double* y, const double*, int i, const double* s,
+                       double* sdot) override {
+    const double m = p_[2], c = p_[3], k = p_[4];
+    sdot[0] = s[1];
+    sdot[1] = -(c * s[1] + k * s[0]) / m;
+    if (i == 2) sdot[1] += (c * y[1] + k * y[0]) / (m * m);
+    if (i == 3) sdot[1] += -y[1] / m;
+    if (i == 4) sdot[1] += -y[0] / m;
+  }
+  std::vector<double> sensitivity_scales() const override { return {1, 1, p_[2], p_[3], p_[4]}; }
+  double* dq_parameters() override { return p_; }
+  std::vector<int> dq_parameter_list() const override { return {0, 1, 2, 3, 4}; }
+
+  const double* parameters() const { return p_; }
+  bool with_sens = true;
+  long rhs_calls = 0;
+
+ private:
+  double x0_, v0_;
+  double p_[5];
+};
+
+struct Trajectory {
+  std::vector<double> t;
+  std::vector<std::vector<double>> y;               // [k][state]
+  std::vector<std::vector<std::vector<double>>> s;  // [k][sens][state]
+  ks::IntegrationResult result;
+};
+
+Trajectory run(ks::Integrator& integ, ks::OdeProblem& problem, const std::vector<double>& times) {
+  Trajectory tr;
+  const int n = problem.size(), ns = problem.num_sensitivities();
+  tr.result = integ.integrate(problem, times, [&](int k, double t, const double* y, const double* const* s) {
+    EXPECT_EQ(k, static_cast<int>(tr.t.size()));
+    tr.t.push_back(t);
+    tr.y.emplace_back(y, y + n);
+    tr.s.emplace_back();
+    for (int i = 0; i < ns; ++i) tr.s.back().emplace_back(s[i], s[i] + n);
+  });
+  return tr;
+}
+
+Trajectory run(const ks::SolverOptions& o, ks::OdeProblem& problem, const std::vector<double>& times) {
+  ks::Integrator integ(o);
+  return run(integ, problem, times);
+}
+
+struct ReferenceRow {
+  double t;
+  double v[6];  // x, dx/dx0, dx/dv0, dx/dm, dx/dc, dx/dk
+};
+
+std::vector<ReferenceRow> read_reference() {
+  const std::string path = std::string(KANESENS_SHARED_DIR) + "/reference/damped_oscillator_sensitivities.csv";
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open " + path);
+  std::string line;
+  std::getline(in, line);  // header t,x,dx_dx0,dx_dv0,dx_dm,dx_dc,dx_dk
+  std::vector<ReferenceRow> rows;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::istringstream ss(line);
+    ReferenceRow r{};
+    char comma = 0;
+    ss >> r.t;
+    for (double& v : r.v) ss >> comma >> v;
+    if (!ss) throw std::runtime_error("bad line in " + path + ": " + line);
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+// Max over the reference rows of |computed − reference| / max(|reference|, 1e-2)
+// for x (index 0) and the five sensitivities (1..5).
+double max_rel_error(const Trajectory& tr, const std::vector<ReferenceRow>& ref) {
+  double worst = 0;
+  for (std::size_t r = 0; r < ref.size(); ++r) {
+    const std::size_t k = r + 1;  // times = {0, ref t...}
+    for (int j = 0; j < 6; ++j) {
+      const double got = j == 0 ? tr.y[k][0] : tr.s[k][static_cast<std::size_t>(j - 1)][0];
+      worst = std::max(worst, std::abs(got - ref[r].v[j]) / std::max(std::abs(ref[r].v[j]), 1e-2));
+    }
+  }
+  return worst;
+}
+
+std::vector<double> reference_times(const std::vector<ReferenceRow>& ref) {
+  std::vector<double> times{0.0};
+  for (const auto& r : ref) times.push_back(r.t);
+  return times;
+}
+
+double max_abs_diff(const Trajectory& a, const Trajectory& b) {
+  double d = 0;
+  for (std::size_t k = 0; k < a.y.size(); ++k) {
+    for (std::size_t j = 0; j < a.y[k].size(); ++j) d = std::max(d, std::abs(a.y[k][j] - b.y[k][j]));
+    for (std::size_t i = 0; i < a.s[k].size(); ++i) {
+      for (std::size_t j = 0; j < a.s[k][i].size(); ++j) {
+        d = std::max(d, std::abs(a.s[k][i][j] - b.s[k][i][j]));
+      }
+    }
+  }
+  return d;
+}
+
+ks::SolverOptions tight() {
+  ks::SolverOptions o;
+  o.rtol = 1e-10;
+  o.atol = 1e-12;
+  return o;
+}
+
+}  // namespace
+
+// ---------- 1. analytic sensitivities ----------
+
+struct SensCase {
+  ks::SensitivityMethod method;
+  ks::SensitivityRhs rhs;
+};
+
+class OscillatorSensitivities : public ::testing::TestWithParam<SensCase> {};
+
+TEST_P(OscillatorSensitivities, MatchAnalyticReference) {
+  const auto ref = read_reference();
+  ASSERT_EQ(ref.size(), 5u);
+  // CVODES's DQ sensitivities perturb y by about the local error tolerance, so their roundoff
+  // is ~ eps/rtol relative: they break down below rtol ~ 1e-9 (docs/solve.md). Exact: rtol
+  // 1e-10; DQ: rtol 1e-8.
+  const bool dq = GetParam().rhs == ks::SensitivityRhs::dq;
+  ks::SolverOptions o = tight();
+  if (dq) {
+    o.rtol = 1e-8;
+    o.atol = 1e-10;
+  }
+  const double tolerance = dq ? 2e-6 : 3e-8;  // measured max: DQ 5.2e-7, exact 7.1e-9
+  o.sensitivity_method = GetParam().method;
+  o.sens_rhs = GetParam().rhs;
+  Oscillator osc;
+  const Trajectory tr = run(o, osc, reference_times(ref));
+  ASSERT_TRUE(tr.result.ok()) << tr.result.message;
+  ASSERT_EQ(tr.y.size(), ref.size() + 1);
+  const double err = max_rel_error(tr, ref);
+  std::printf("[ measure  ] %s/%s rtol %.0e: max rel error %.3e, steps %ld, rhs %ld, sens rhs %ld, "
+              "rhs for sens %ld\n",
+              std::string(ks::to_string(o.sensitivity_method)).c_str(),
+              std::string(ks::to_string(o.sens_rhs)).c_str(), o.rtol, err, tr.result.stats.steps,
+              tr.result.stats.rhs_evals, tr.result.stats.sens_rhs_evals, tr.result.stats.rhs_evals_for_sens);
+  EXPECT_LT(err, tolerance);
+  // Output 0 is the initial state and the initial sensitivities, exactly.
+  EXPECT_EQ(tr.t[0], 0.0);
+  EXPECT_EQ(tr.y[0], (std::vector<double>{1, 0}));
+  EXPECT_EQ(tr.s[0][0], (std::vector<double>{1, 0}));
+  EXPECT_EQ(tr.s[0][1], (std::vector<double>{0, 1}));
+  EXPECT_EQ(tr.s[0][4], (std::vector<double>{0, 0}));
+  if (o.sens_rhs == ks::SensitivityRhs::exact) {
+    EXPECT_GT(tr.result.stats.sens_rhs_evals, 0);
+    EXPECT_EQ(tr.result.stats.rhs_evals_for_sens, 0);
+  } else {
+    EXPECT_GT(tr.result.stats.rhs_evals_for_sens, 0);
+  }
+  // CVODES's DQ perturbations of p are undone.
+  EXPECT_EQ(osc.parameters()[3], 0.4);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllMethods, OscillatorSensitivities,
+    ::testing::Values(SensCase{ks::SensitivityMethod::simultaneous, ks::SensitivityRhs::exact},
+                      SensCase{ks::SensitivityMethod::staggered, ks::SensitivityRhs::exact},
+                      SensCase{ks::SensitivityMethod::staggered1, ks::SensitivityRhs::exact},
+                      SensCase{ks::SensitivityMethod::simultaneous, ks::SensitivityRhs::dq},
+                      SensCase{ks::SensitivityMethod::staggered, ks::SensitivityRhs::dq},
+                      SensCase{ks::SensitivityMethod::staggered1, ks::SensitivityRhs::dq}),
+    [](const auto& info) {
+      return std::string(ks::to_string(info.param.method)) + "_" + std::string(ks::to_string(info.param.rhs));
+    });
+
+TEST(Integrator, ErrorShrinksWithTolerance) {
+  const auto ref = read_reference();
+  double previous = 1;
+  for (double rtol : {1e-6, 1e-8, 1e-10}) {
+    ks::SolverOptions o;
+    o.rtol = rtol;
+    o.atol = rtol * 1e-2;
+    Oscillator osc;
+    const Trajectory tr = run(o, osc, reference_times(ref));
+    ASSERT_TRUE(tr.result.ok()) << tr.result.message;
+    const double err = max_rel_error(tr, ref);
+    std::printf("[ measure  ] staggered/exact rtol %.0e: max rel error %.3e\n", rtol, err);
+    EXPECT_LT(err, previous);
+    EXPECT_LT(err, 1000 * rtol);
+    previous = err;
+  }
+}
+
+TEST(Integrator, SensitivitySSTolerances) {
+  const auto ref = read_reference();
+  ks::SolverOptions o = tight();
+  o.sens_atol = 1e-12;
+  Oscillator osc;
+  const Trajectory tr = run(o, osc, reference_times(ref));
+  ASSERT_TRUE(tr.result.ok()) << tr.result.message;
+  EXPECT_LT(max_rel_error(tr, ref), 3e-8);
+}
+
+// ---------- 5. variants agree ----------
+
+TEST(Integrator, AdamsAndBdfAgree) {
+  const auto ref = read_reference();
+  const auto times = reference_times(ref);
+  Oscillator a, b, c;
+  const Trajectory bdf = run(tight(), a, times);
+  ks::SolverOptions o = tight();
+  o.method = ks::Method::adams;
+  const Trajectory adams = run(o, b, times);
+  o.iteration = ks::Iteration::functional;
+  const Trajectory adams_fp = run(o, c, times);
+  ASSERT_TRUE(bdf.result.ok() && adams.result.ok() && adams_fp.result.ok()) << adams_fp.result.message;
+  const double d1 = max_abs_diff(bdf, adams), d2 = max_abs_diff(bdf, adams_fp);
+  std::printf("[ measure  ] |bdf - adams/newton| = %.3e, |bdf - adams/functional| = %.3e; steps bdf %ld "
+              "adams %ld adams/fp %ld\n",
+              d1, d2, bdf.result.stats.steps, adams.result.stats.steps, adams_fp.result.stats.steps);
+  EXPECT_LT(d1, 2e-8);
+  EXPECT_LT(d2, 2e-8);
+  EXPECT_EQ(adams_fp.result.stats.jac_evals, 0);
+  EXPECT_LT(max_rel_error(adams, ref), 3e-8);
+  EXPECT_LT(max_rel_error(adams_fp, ref), 3e-8);
+}
+
+TEST(Integrator, ExactAndDqJacobianAgree) {
+  const auto times = reference_times(read_reference());
+  Oscillator a, b;
+  const Trajectory exact = run(tight(), a, times);
+  ks::SolverOptions o = tight();
+  o.jacobian = ks::JacobianKind::dq;
+  const Trajectory dq = run(o, b, times);
+  ASSERT_TRUE(exact.result.ok() && dq.result.ok());
+  const double d = max_abs_diff(exact, dq);
+  std::printf("[ measure  ] |exact J - DQ J| trajectories = %.3e; lin_rhs_evals exact %ld, dq %ld\n", d,
+              exact.result.stats.lin_rhs_evals, dq.result.stats.lin_rhs_evals);
+  EXPECT_LT(d, 1e-9);
+  EXPECT_EQ(exact.result.stats.lin_rhs_evals, 0);
+  EXPECT_GT(dq.result.stats.lin_rhs_evals, 0);
+  EXPECT_GT(exact.result.stats.jac_evals, 0);
+}
+
+// ---------- 2, 3, 4. failures are statuses ----------
+
+namespace {
+// The oscillator with a failure injected into one of its callbacks.
+class Faulty : public Oscillator {
+ public:
+  enum class Fault { none, throw_rhs_after_t1, throw_sens_rhs_after_t1, throw_jacobian, nan_after_t1,
+                     nan_at_t0, nan_on_calls_20_to_22, throw_when_perturbed };
+  explicit Faulty(Fault f) : fault(f) {}
+  void rhs(double t, const double* y, double* ydot) override {
+    Oscillator::rhs(t, y, ydot);
+    if (fault == Fault::throw_rhs_after_t1 && t > 1) throw std::runtime_error("spring 'k1' broke");
+    if (fault == Fault::nan_after_t1 && t > 1) ydot[1] = std::numeric_limits<double>::quiet_NaN();
+    if (fault == Fault::nan_at_t0) ydot[0] = std::numeric_limits<double>::quiet_NaN();
+    if (fault == Fault::nan_on_calls_20_to_22 && rhs_calls >= 20 && rhs_calls <= 22) {
+      ydot[1] = std::numeric_limits<double>::infinity();
+    }
+    if (fault == Fault::throw_when_perturbed && t > 1 && parameters()[3] != 0.4) {
+      throw std::runtime_error("perturbed c");
+    }
+  }
+  void sensitivity_rhs(double t, const double* y, const double* ydot, int i, const double* s,
+                       double* sdot) override {
+    if (fault == Fault::throw_sens_rhs_after_t1 && t > 1) throw std::logic_error("dual number overflow");
+    Oscillator::sensitivity_rhs(t, y, ydot, i, s, sdot);
+  }
+  void jacobian(double t, const double* y, const double* ydot, double* J) override {
+    if (fault == Fault::throw_jacobian) throw 42;  // not even a std::exception
+    Oscillator::jacobian(t, y, ydot, J);
+  }
+  Fault fault;
+};
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+const std::vector<double> kTimes{0, 0.5, 1, 2, 5, 10};
+}  // namespace
+
+TEST(IntegratorFailure, ThrowingRhsIsAStatusWithTheMessage) {
+  Faulty f(Faulty::Fault::throw_rhs_after_t1);
+  const Trajectory tr = run(tight(), f, kTimes);
+  std::printf("[ message  ] %s\n", tr.result.message.c_str());
+  EXPECT_EQ(tr.result.status, CV_RHSFUNC_FAIL);
+  EXPECT_TRUE(contains(tr.result.message, "CV_RHSFUNC_FAIL")) << tr.result.message;
+  EXPECT_TRUE(contains(tr.result.message, "spring 'k1' broke")) << tr.result.message;
+  // CVODES steps past an output time and interpolates back, so the step that crosses t = 1
+  // (while integrating towards the output t = 1) fails: t = 1 itself is not recorded.
+  EXPECT_EQ(tr.result.outputs_recorded, 2);  // t = 0, 0.5
+  EXPECT_EQ(tr.y.size(), 2u);
+  EXPECT_GT(tr.result.t_fail, 0.9);
+  EXPECT_LT(tr.result.t_fail, 1.0);
+  EXPECT_GT(tr.result.stats.steps, 0);
+}
+
+TEST(IntegratorFailure, ThrowingSensitivityRhs) {
+  Faulty f(Faulty::Fault::throw_sens_rhs_after_t1);
+  const Trajectory tr = run(tight(), f, kTimes);
+  std::printf("[ message  ] %s\n", tr.result.message.c_str());
+  EXPECT_EQ(tr.result.status, CV_SRHSFUNC_FAIL);
+  EXPECT_TRUE(contains(tr.result.message, "dual number overflow")) << tr.result.message;
+}
+
+TEST(IntegratorFailure, ThrowingJacobianNonStdException) {
+  Faulty f(Faulty::Fault::throw_jacobian);
+  const Trajectory tr = run(tight(), f, kTimes);
+  std::printf("[ message  ] %s\n", tr.result.message.c_str());
+  EXPECT_EQ(tr.result.status, CV_LSETUP_FAIL);
+  EXPECT_TRUE(contains(tr.result.message, "jacobian threw")) << tr.result.message;
+  EXPECT_TRUE(contains(tr.result.message, "unknown exception")) << tr.result.message;
+}
+
+TEST(IntegratorFailure, TransientNanIsRecovered) {
+  Faulty f(Faulty::Fault::nan_on_calls_20_to_22);
+  f.with_sens = false;
+  Oscillator clean;
+  clean.with_sens = false;
+  const Trajectory tr = run(tight(), f, kTimes);
+  const Trajectory ref = run(tight(), clean, kTimes);
+  ASSERT_TRUE(tr.result.ok()) << tr.result.message;
+  EXPECT_TRUE(tr.result.message.empty());
+  EXPECT_EQ(tr.result.stats.callback_recoverable, 3);
+  EXPECT_LT(max_abs_diff(tr, ref), 1e-8);
+}
+
+TEST(IntegratorFailure, PersistentNanFailsWithMessage) {
+  // CVODES shrinks the step after each recoverable failure and keeps taking the ever shorter
+  // steps that end before t = 1 (a Zeno approach), until the step budget runs out.
+  Faulty f(Faulty::Fault::nan_after_t1);
+  ks::SolverOptions o = tight();
+  o.max_steps = 5000;
+  const Trajectory tr = run(o, f, kTimes);
+  std::printf("[ message  ] %s (recoverable callbacks: %ld)\n", tr.result.message.c_str(),
+              tr.result.stats.callback_recoverable);
+  EXPECT_LT(tr.result.status, 0);
+  EXPECT_TRUE(contains(tr.result.message, "rhs returned a non-finite value")) << tr.result.message;
+  EXPECT_GT(tr.result.stats.callback_recoverable, 1);
+  EXPECT_EQ(tr.result.status, CV_TOO_MUCH_WORK);
+  EXPECT_GE(tr.result.outputs_recorded, 2);  // t = 0, 0.5 and (when the approach reaches
+  EXPECT_LE(tr.result.outputs_recorded, 3);  // t = 1 to the last bit) t = 1
+  EXPECT_GT(tr.result.t_fail, 0.9);
+  EXPECT_LE(tr.result.t_fail, 1.0);
+}
+
+TEST(IntegratorFailure, NanAtInitialTime) {
+  Faulty f(Faulty::Fault::nan_at_t0);
+  const Trajectory tr = run(tight(), f, kTimes);
+  std::printf("[ message  ] %s\n", tr.result.message.c_str());
+  EXPECT_EQ(tr.result.status, CV_FIRST_RHSFUNC_ERR);
+  EXPECT_TRUE(contains(tr.result.message, "non-finite")) << tr.result.message;
+  EXPECT_EQ(tr.result.outputs_recorded, 1);  // the initial state is still recorded
+}
+
+TEST(IntegratorFailure, MaxStepsIsATotalBudget) {
+  ks::SolverOptions o = tight();
+  o.max_steps = 50;
+  // Many outputs: CVODES's own mxstep counts per output interval and would never trigger.
+  std::vector<double> times;
+  for (int k = 0; k <= 1000; ++k) times.push_back(0.01 * k);
+  Oscillator osc;
+  const Trajectory tr = run(o, osc, times);
+  std::printf("[ message  ] %s\n", tr.result.message.c_str());
+  EXPECT_EQ(tr.result.status, CV_TOO_MUCH_WORK);
+  EXPECT_TRUE(contains(tr.result.message, "CV_TOO_MUCH_WORK")) << tr.result.message;
+  EXPECT_EQ(tr.result.stats.steps, 50);
+  EXPECT_GT(tr.result.outputs_recorded, 1);
+  EXPECT_LT(tr.result.outputs_recorded, 1001);
+  EXPECT_GE(tr.result.t_fail, tr.t.back());  // failed between the last recorded output
+  EXPECT_LT(tr.result.t_fail, times[tr.t.size()]);  // and the next one
+}
+
+TEST(IntegratorFailure, MaxStepsInOneInterval) {
+  ks::SolverOptions o = tight();
+  o.max_steps = 20;
+  Oscillator osc;
+  const Trajectory tr = run(o, osc, {0, 10});
+  std::printf("[ message  ] %s\n", tr.result.message.c_str());
+  EXPECT_EQ(tr.result.status, CV_TOO_MUCH_WORK);
+  EXPECT_TRUE(contains(tr.result.message, "mxstep")) << tr.result.message;
+  EXPECT_EQ(tr.result.stats.steps, 20);
+}
+
+TEST(IntegratorFailure, DqParametersRestoredAfterFailure) {
+  ks::SolverOptions o = tight();
+  o.sens_rhs = ks::SensitivityRhs::dq;
+  o.rtol = 1e-8;
+  Faulty f(Faulty::Fault::throw_when_perturbed);
+  const Trajectory tr = run(o, f, kTimes);
+  std::printf("[ message  ] %s\n", tr.result.message.c_str());
+  EXPECT_EQ(tr.result.status, CV_SRHSFUNC_FAIL);
+  EXPECT_TRUE(contains(tr.result.message, "perturbed c")) << tr.result.message;
+  EXPECT_EQ(f.parameters()[2], 1.0);
+  EXPECT_EQ(f.parameters()[3], 0.4);
+  EXPECT_EQ(f.parameters()[4], 4.0);
+}
+
+// ---------- 6. reuse ----------
+
+TEST(Integrator, ReuseEqualsFreshBitForBit) {
+  const std::vector<double> times{0, 0.5, 1, 2, 5, 10};
+  for (auto method : {ks::SensitivityMethod::simultaneous, ks::SensitivityMethod::staggered,
+                      ks::SensitivityMethod::staggered1}) {
+    for (auto rhs : {ks::SensitivityRhs::exact, ks::SensitivityRhs::dq}) {
+      ks::SolverOptions o = tight();
+      o.sensitivity_method = method;
+      o.sens_rhs = rhs;
+      if (rhs == ks::SensitivityRhs::dq) o.rtol = 1e-8;
+      Oscillator a1(1, 0, 1, 0.4, 4), b1(0.5, -0.3, 1.3, 0.9, 2.5), a2 = a1, b2 = b1;
+      Faulty bad(Faulty::Fault::throw_rhs_after_t1);
+      ks::Integrator reused(o);
+      const Trajectory ra = run(reused, a1, times);
+      const Trajectory rbad = run(reused, bad, times);  // a failed sample in between
+      const Trajectory rb = run(reused, b1, times);
+      const Trajectory ra_again = run(reused, a1, times);
+      const Trajectory fa = run(o, a2, times);
+      const Trajectory fb = run(o, b2, times);
+      ASSERT_TRUE(ra.result.ok() && rb.result.ok() && fa.result.ok() && fb.result.ok());
+      EXPECT_LT(rbad.result.status, 0);
+      EXPECT_EQ(max_abs_diff(ra, fa), 0.0);
+      EXPECT_EQ(max_abs_diff(rb, fb), 0.0);
+      EXPECT_EQ(max_abs_diff(ra_again, fa), 0.0);
+      EXPECT_EQ(rb.result.stats.steps, fb.result.stats.steps);
+      EXPECT_EQ(rb.result.stats.rhs_evals, fb.result.stats.rhs_evals);
+      EXPECT_EQ(rb.result.stats.sens_rhs_evals, fb.result.stats.sens_rhs_evals);
+      EXPECT_EQ(rb.result.stats.jac_evals, fb.result.stats.jac_evals);
+      EXPECT_GT(max_abs_diff(ra, rb), 0.1);  // the two samples really differ
+    }
+  }
+}
+
+TEST(Integrator, ReuseAcrossShapesRebuilds) {
+  const std::vector<double> times{0, 1, 2};
+  ks::Integrator integ(tight());
+  Oscillator with, without, without_fresh;
+  without.with_sens = false;
+  without_fresh.with_sens = false;
+  const Trajectory a = run(integ, with, times);
+  const Trajectory b = run(integ, without, times);
+  const Trajectory c = run(tight(), without_fresh, times);
+  ASSERT_TRUE(a.result.ok() && b.result.ok());
+  EXPECT_EQ(a.s[1].size(), 5u);
+  EXPECT_TRUE(b.s[1].empty());
+  EXPECT_EQ(max_abs_diff(b, c), 0.0);
+}
+
+// ---------- configuration errors throw ----------
+
+namespace {
+class NoDerivatives : public ks::OdeProblem {
+ public:
+  int size() const override { return 1; }
+  void initial_state(double* y0) const override { y0[0] = 1; }
+  void rhs(double, const double* y, double* ydot) override { ydot[0] = -y[0]; }
+  int num_sensitivities() const override { return 1; }
+  void initial_sensitivity(int, double* s0) const override { s0[0] = 1; }
+};
+}  // namespace
+
+TEST(IntegratorConfig, InvalidOptionsAndMissingCapabilitiesThrow) {
+  ks::SolverOptions bad;
+  bad.rtol = -1;
+  EXPECT_THROW(ks::Integrator{bad}, std::invalid_argument);
+  bad = {};
+  bad.max_order = 6;  // BDF max is 5
+  EXPECT_THROW(ks::Integrator{bad}, std::invalid_argument);
+
+  NoDerivatives p;
+  const std::vector<double> times{0, 1};
+  auto noop = [](int, double, const double*, const double* const*) {};
+  try {
+    ks::integrate(p, ks::SolverOptions{}, times, noop);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(contains(e.what(), "jacobian")) << e.what();
+  }
+  ks::SolverOptions o;
+  o.jacobian = ks::JacobianKind::dq;
+  EXPECT_THROW(ks::integrate(p, o, times, noop), std::invalid_argument);  // exact sens RHS missing
+  o.sens_rhs = ks::SensitivityRhs::dq;
+  EXPECT_THROW(ks::integrate(p, o, times, noop), std::invalid_argument);  // no dq_parameters()
+  o.sens_rhs = ks::SensitivityRhs::exact;
+  const std::vector<double> not_increasing{0, 1, 1};
+  Oscillator osc;
+  EXPECT_THROW(ks::integrate(osc, ks::SolverOptions{}, not_increasing, noop), std::invalid_argument);
+  EXPECT_THROW(ks::integrate(osc, ks::SolverOptions{}, std::vector<double>{}, noop), std::invalid_argument);
+  ks::SolverOptions wrong_atol;
+  wrong_atol.atol_per_state = {1e-10, 1e-10, 1e-10};
+  EXPECT_THROW(ks::integrate(osc, wrong_atol, times, noop), std::invalid_argument);
+}
+
+TEST(IntegratorConfig, PerStateAtolAndSingleOutput) {
+  ks::SolverOptions o = tight();
+  o.atol_per_state = {1e-12, 1e-11};
+  Oscillator osc;
+  const Trajectory one = run(o, osc, {0.0});
+  ASSERT_TRUE(one.result.ok());
+  EXPECT_EQ(one.result.outputs_recorded, 1);
+  const auto ref = read_reference();
+  const Trajectory tr = run(o, osc, reference_times(ref));
+  ASSERT_TRUE(tr.result.ok());
+  EXPECT_LT(max_rel_error(tr, ref), 3e-8);
+}
