@@ -1,0 +1,31 @@
+// One trajectory of a KaneProblem: integrate to the output times and collect states,
+// sensitivities and outputs into flat row-major buffers (the layout of one HDF5 sample row).
+#pragma once
+#include <span>
+#include <string>
+#include <vector>
+
+#include "sim/kane_problem.hpp"
+#include "solve/integrator.hpp"
+
+namespace kanesens {
+
+struct RecordFlags {
+  bool states = true, sensitivities = true, energy = true;
+};
+
+struct Trajectory {
+  std::vector<double> states;         // T × nstate
+  std::vector<double> sensitivities;  // T × nstate × nsens
+  std::vector<double> energy;         // T
+  solve::IntegrationResult result;
+};
+
+// Preallocates the buffers for `ntimes` outputs (reuse across samples: no reallocation).
+void resize_trajectory(Trajectory& traj, const KaneProblem& problem, std::size_t ntimes, const RecordFlags& flags);
+
+// Integrates the problem's current sample. Outputs past a failure stay NaN.
+void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<const double> times,
+              const RecordFlags& flags, Trajectory& traj);
+
+}  // namespace kanesens
