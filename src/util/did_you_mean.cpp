@@ -5,27 +5,30 @@
 
 namespace kanesens {
 
-int edit_distance(std::string_view a, std::string_view b) {
-  std::vector<int> row(b.size() + 1);
-  std::iota(row.begin(), row.end(), 0);
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  // Optimal string alignment (Levenshtein plus Damerau's transposition of neighbours).
+  const std::size_t n = b.size();
+  std::vector<std::size_t> prev2(n + 1), prev(n + 1), cur(n + 1);
+  std::iota(prev.begin(), prev.end(), std::size_t{0});
   for (std::size_t i = 1; i <= a.size(); ++i) {
-    int diag = row[0];
-    row[0] = static_cast<int>(i);
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const int up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
+    cur[0] = i;
+    for (std::size_t j = 1; j <= n; ++j) {
+      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) cur[j] = std::min(cur[j], prev2[j - 2] + 1);
     }
+    std::swap(prev2, prev);
+    std::swap(prev, cur);
   }
-  return row[b.size()];
+  return prev[n];
 }
 
 std::string closest_match(std::string_view word, const std::vector<std::string>& candidates) {
-  const int limit = std::max<int>(1, static_cast<int>(word.size()) / 3);
+  const std::size_t limit = std::max<std::size_t>(1, word.size() / 3);
   std::string best;
-  int best_d = limit + 1;
+  std::size_t best_d = limit + 1;
   for (const auto& c : candidates) {
-    const int d = edit_distance(word, c);
+    const std::size_t d = edit_distance(word, c);
     if (d < best_d) {
       best_d = d;
       best = c;
@@ -45,5 +48,16 @@ std::string join_names(const std::vector<std::string>& names) {
   for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
   return s;
 }
+
+static std::vector<std::string> to_strings(std::span<const std::string_view> v) {
+  return std::vector<std::string>(v.begin(), v.end());
+}
+std::string closest_match(std::string_view word, std::span<const std::string_view> candidates) {
+  return closest_match(word, to_strings(candidates));
+}
+std::string did_you_mean(std::string_view word, std::span<const std::string_view> candidates) {
+  return did_you_mean(word, to_strings(candidates));
+}
+std::string join_names(std::span<const std::string_view> names) { return join_names(to_strings(names)); }
 
 }  // namespace kanesens
