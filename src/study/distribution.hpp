@@ -11,23 +11,23 @@
 namespace kanesens::study {
 
 struct Uniform {
-  double low, high;
-};  // low < high
+  double low, high;  // low < high
+};
 struct Normal {
-  double mean, std;
-};  // std > 0
+  double mean, std;  // std > 0
+};
 struct TruncNormal {
-  double mean, std, low, high;
-};  // normal(mean, std) cut to [low, high]
+  double mean, std, low, high;  // normal(mean, std) restricted to [low, high], low < high
+};
 struct LogNormal {
-  double mu, sigma;
-};  // log X ~ normal(mu, sigma)
+  double mu, sigma;  // log X ~ normal(mu, sigma), sigma > 0
+};
 struct Triangular {
-  double low, mode, high;
-};  // low ≤ mode ≤ high, low < high
+  double low, mode, high;  // low ≤ mode ≤ high, low < high
+};
 struct Choice {
-  std::vector<double> values;
-};  // equal weights; kept sorted
+  std::vector<double> values;  // equal weights, sorted (see make_choice), non-empty
+};
 struct Fixed {
   double value;
 };
