@@ -43,8 +43,8 @@ constexpr double to_open_unit(std::uint64_t bits) {
 }
 
 // A uniform in (0,1) keyed by (seed, stream, a, b, c).
-constexpr double hash_unit(std::uint64_t seed, Stream stream, std::uint64_t a,
-                           std::uint64_t b = 0, std::uint64_t c = 0) {
+constexpr double hash_unit(std::uint64_t seed, Stream stream, std::uint64_t a, std::uint64_t b = 0,
+                           std::uint64_t c = 0) {
   return to_open_unit(hash_words(seed, stream, a, b, c));
 }
 

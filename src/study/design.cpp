@@ -105,8 +105,8 @@ double Design::Impl::base_coordinate(std::int64_t j, std::size_t d) const {
       const KeyedPermutation stratum(static_cast<std::uint64_t>(base_points),
                                      hash_words(spec.seed, Stream::lhs_permutation, d));
       const double jitter = hash_unit(spec.seed, Stream::lhs_jitter, uj, d);
-      const double u = (static_cast<double>(stratum(uj)) + jitter) /
-                       static_cast<double>(base_points);
+      const double u =
+          (static_cast<double>(stratum(uj)) + jitter) / static_cast<double>(base_points);
       return std::min(u, std::nextafter(1.0, 0.0));  // (N−1 + jitter)/N may round to 1
     }
     default:
@@ -194,10 +194,18 @@ Design::Design(SamplingSpec spec, std::vector<VariedInput> inputs) {
   impl_ = std::move(impl);
 }
 
-std::int64_t Design::size() const { return impl_->runs; }
-std::size_t Design::dimension() const { return impl_->inputs.size(); }
-const SamplingSpec& Design::spec() const { return impl_->spec; }
-const std::vector<VariedInput>& Design::inputs() const { return impl_->inputs; }
+std::int64_t Design::size() const {
+  return impl_->runs;
+}
+std::size_t Design::dimension() const {
+  return impl_->inputs.size();
+}
+const SamplingSpec& Design::spec() const {
+  return impl_->spec;
+}
+const std::vector<VariedInput>& Design::inputs() const {
+  return impl_->inputs;
+}
 
 void Design::unit_sample(std::int64_t i, std::span<double> u) const {
   const Impl& d = *impl_;
@@ -215,8 +223,8 @@ void Design::unit_sample(std::int64_t i, std::span<double> u) const {
     case SamplingMethod::saltelli: {
       const SaltelliIndex s = study::saltelli_index(i, P);
       for (std::size_t k = 0; k < P; ++k) {
-        const bool from_b = s.block == SaltelliBlock::B ||
-                            (s.block == SaltelliBlock::AB && k == s.input);
+        const bool from_b =
+            s.block == SaltelliBlock::B || (s.block == SaltelliBlock::AB && k == s.input);
         u[k] = d.base_coordinate(s.base, from_b ? P + k : k);
       }
       return;
@@ -238,9 +246,12 @@ void Design::sample(std::int64_t i, std::span<double> values) const {
 
 std::string Design::block_label(std::int64_t i) const {
   switch (impl_->spec.method) {
-    case SamplingMethod::saltelli: return saltelli_label(saltelli_index(i));
-    case SamplingMethod::morris: return MorrisDesign::label(morris_step(i));
-    default: return "";
+    case SamplingMethod::saltelli:
+      return saltelli_label(saltelli_index(i));
+    case SamplingMethod::morris:
+      return MorrisDesign::label(morris_step(i));
+    default:
+      return "";
   }
 }
 
@@ -261,6 +272,8 @@ double Design::morris_delta() const {
   return impl_->morris->delta();
 }
 
-std::span<const std::int64_t> Design::grid_levels() const { return impl_->levels; }
+std::span<const std::int64_t> Design::grid_levels() const {
+  return impl_->levels;
+}
 
 }  // namespace kanesens::study

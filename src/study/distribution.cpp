@@ -52,7 +52,9 @@ double truncnormal_quantile(const TruncNormal& d, double p) {
   return std::clamp(d.mean + d.std * z, d.low, d.high);
 }
 
-bool finite(double x) { return std::isfinite(x); }
+bool finite(double x) {
+  return std::isfinite(x);
+}
 
 std::optional<DistributionProblem> not_finite(std::string_view key, double x) {
   if (finite(x)) return std::nullopt;
@@ -71,8 +73,8 @@ std::optional<DistributionProblem> ordered(std::string_view lo_key, double lo,
 
 std::optional<DistributionProblem> positive(std::string_view key, double x) {
   if (x > 0) return std::nullopt;
-  return DistributionProblem{std::string(key), "expected " + std::string(key) + " > 0, got " +
-                                                   number(x)};
+  return DistributionProblem{std::string(key),
+                             "expected " + std::string(key) + " > 0, got " + number(x)};
 }
 
 // The first problem among the candidates, in order.
@@ -92,63 +94,65 @@ Distribution make_choice(std::vector<double> values) {
 }
 
 double Distribution::quantile(double p) const {
-  return std::visit(
-      Overloaded{
-          [p](const Uniform& d) {
-            return boost::math::quantile(boost::math::uniform_distribution<double>(d.low, d.high), p);
-          },
-          [p](const Normal& d) {
-            return boost::math::quantile(boost::math::normal_distribution<double>(d.mean, d.std), p);
-          },
-          [p](const TruncNormal& d) { return truncnormal_quantile(d, p); },
-          [p](const LogNormal& d) {
-            return boost::math::quantile(
-                boost::math::lognormal_distribution<double>(d.mu, d.sigma), p);
-          },
-          [p](const Triangular& d) {
-            return boost::math::quantile(
-                boost::math::triangular_distribution<double>(d.low, d.mode, d.high), p);
-          },
-          [p](const Choice& d) {
-            const auto n = static_cast<double>(d.values.size());
-            const double k = std::clamp(std::ceil(p * n) - 1.0, 0.0, n - 1.0);
-            return d.values[static_cast<std::size_t>(k)];
-          },
-          [](const Fixed& d) { return d.value; },
-      },
-      params);
+  return std::visit(Overloaded{
+                        [p](const Uniform& d) {
+                          return boost::math::quantile(
+                              boost::math::uniform_distribution<double>(d.low, d.high), p);
+                        },
+                        [p](const Normal& d) {
+                          return boost::math::quantile(
+                              boost::math::normal_distribution<double>(d.mean, d.std), p);
+                        },
+                        [p](const TruncNormal& d) { return truncnormal_quantile(d, p); },
+                        [p](const LogNormal& d) {
+                          return boost::math::quantile(
+                              boost::math::lognormal_distribution<double>(d.mu, d.sigma), p);
+                        },
+                        [p](const Triangular& d) {
+                          return boost::math::quantile(
+                              boost::math::triangular_distribution<double>(d.low, d.mode, d.high),
+                              p);
+                        },
+                        [p](const Choice& d) {
+                          const auto n = static_cast<double>(d.values.size());
+                          const double k = std::clamp(std::ceil(p * n) - 1.0, 0.0, n - 1.0);
+                          return d.values[static_cast<std::size_t>(k)];
+                        },
+                        [](const Fixed& d) { return d.value; },
+                    },
+                    params);
 }
 
 std::string Distribution::describe() const {
-  return std::visit(
-      Overloaded{
-          [](const Uniform& d) {
-            return "uniform(low=" + number(d.low) + ", high=" + number(d.high) + ")";
-          },
-          [](const Normal& d) {
-            return "normal(mean=" + number(d.mean) + ", std=" + number(d.std) + ")";
-          },
-          [](const TruncNormal& d) {
-            return "truncnormal(mean=" + number(d.mean) + ", std=" + number(d.std) +
-                   ", low=" + number(d.low) + ", high=" + number(d.high) + ")";
-          },
-          [](const LogNormal& d) {
-            return "lognormal(mu=" + number(d.mu) + ", sigma=" + number(d.sigma) + ")";
-          },
-          [](const Triangular& d) {
-            return "triangular(low=" + number(d.low) + ", mode=" + number(d.mode) +
-                   ", high=" + number(d.high) + ")";
-          },
-          [](const Choice& d) {
-            std::string s = "choice(values=[";
-            for (std::size_t k = 0; k < d.values.size(); ++k) {
-              s += (k ? ", " : "") + number(d.values[k]);
-            }
-            return s + "])";
-          },
-          [](const Fixed& d) { return "fixed(value=" + number(d.value) + ")"; },
-      },
-      params);
+  return std::visit(Overloaded{
+                        [](const Uniform& d) {
+                          return "uniform(low=" + number(d.low) + ", high=" + number(d.high) + ")";
+                        },
+                        [](const Normal& d) {
+                          return "normal(mean=" + number(d.mean) + ", std=" + number(d.std) + ")";
+                        },
+                        [](const TruncNormal& d) {
+                          return "truncnormal(mean=" + number(d.mean) + ", std=" + number(d.std) +
+                                 ", low=" + number(d.low) + ", high=" + number(d.high) + ")";
+                        },
+                        [](const LogNormal& d) {
+                          return "lognormal(mu=" + number(d.mu) + ", sigma=" + number(d.sigma) +
+                                 ")";
+                        },
+                        [](const Triangular& d) {
+                          return "triangular(low=" + number(d.low) + ", mode=" + number(d.mode) +
+                                 ", high=" + number(d.high) + ")";
+                        },
+                        [](const Choice& d) {
+                          std::string s = "choice(values=[";
+                          for (std::size_t k = 0; k < d.values.size(); ++k) {
+                            s += (k ? ", " : "") + number(d.values[k]);
+                          }
+                          return s + "])";
+                        },
+                        [](const Fixed& d) { return "fixed(value=" + number(d.value) + ")"; },
+                    },
+                    params);
 }
 
 std::string_view Distribution::kind_name() const {
@@ -165,14 +169,14 @@ std::optional<DistributionProblem> Distribution::find_problem() const {
                           ordered("low", d.low, "high", d.high, true)});
           },
           [](const Normal& d) {
-            return first({not_finite("mean", d.mean), not_finite("std", d.std),
-                          positive("std", d.std)});
+            return first(
+                {not_finite("mean", d.mean), not_finite("std", d.std), positive("std", d.std)});
           },
           [](const TruncNormal& d) -> std::optional<DistributionProblem> {
-            if (auto p = first({not_finite("mean", d.mean), not_finite("std", d.std),
-                                not_finite("low", d.low), not_finite("high", d.high),
-                                positive("std", d.std),
-                                ordered("low", d.low, "high", d.high, true)})) {
+            if (auto p =
+                    first({not_finite("mean", d.mean), not_finite("std", d.std),
+                           not_finite("low", d.low), not_finite("high", d.high),
+                           positive("std", d.std), ordered("low", d.low, "high", d.high, true)})) {
               return p;
             }
             const double mass =
@@ -180,15 +184,15 @@ std::optional<DistributionProblem> Distribution::find_problem() const {
             if (!(mass > 1e-300)) {
               return DistributionProblem{
                   "low", "[low, high] = [" + number(d.low) + ", " + number(d.high) +
-                             "] has probability " + number(mass) + " under normal(mean=" +
-                             number(d.mean) + ", std=" + number(d.std) +
+                             "] has probability " + number(mass) +
+                             " under normal(mean=" + number(d.mean) + ", std=" + number(d.std) +
                              "); expected an interval the normal can reach"};
             }
             return std::nullopt;
           },
           [](const LogNormal& d) {
-            return first({not_finite("mu", d.mu), not_finite("sigma", d.sigma),
-                          positive("sigma", d.sigma)});
+            return first(
+                {not_finite("mu", d.mu), not_finite("sigma", d.sigma), positive("sigma", d.sigma)});
           },
           [](const Triangular& d) {
             return first({not_finite("low", d.low), not_finite("mode", d.mode),

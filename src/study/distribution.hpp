@@ -10,13 +10,27 @@
 
 namespace kanesens::study {
 
-struct Uniform { double low, high; };                       // low < high
-struct Normal { double mean, std; };                        // std > 0
-struct TruncNormal { double mean, std, low, high; };        // normal(mean, std) cut to [low, high]
-struct LogNormal { double mu, sigma; };                     // log X ~ normal(mu, sigma)
-struct Triangular { double low, mode, high; };              // low ≤ mode ≤ high, low < high
-struct Choice { std::vector<double> values; };              // equal weights; kept sorted
-struct Fixed { double value; };
+struct Uniform {
+  double low, high;  // low < high
+};
+struct Normal {
+  double mean, std;  // std > 0
+};
+struct TruncNormal {
+  double mean, std, low, high;  // normal(mean, std) restricted to [low, high], low < high
+};
+struct LogNormal {
+  double mu, sigma;  // log X ~ normal(mu, sigma), sigma > 0
+};
+struct Triangular {
+  double low, mode, high;  // low ≤ mode ≤ high, low < high
+};
+struct Choice {
+  std::vector<double> values;  // equal weights, sorted (see make_choice), non-empty
+};
+struct Fixed {
+  double value;
+};
 
 // Which parameter of a distribution is wrong, and why (expected vs actual). `key` is the YAML
 // key of the offending parameter ("high", "values[2]") so the parser can point at it.

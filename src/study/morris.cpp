@@ -10,9 +10,8 @@ namespace kanesens::study {
 namespace {
 
 KeyedPermutation step_order(std::uint64_t seed, std::int64_t trajectory, std::size_t dimension) {
-  return KeyedPermutation(dimension,
-                          hash_words(seed, Stream::morris_order,
-                                     static_cast<std::uint64_t>(trajectory)));
+  return KeyedPermutation(
+      dimension, hash_words(seed, Stream::morris_order, static_cast<std::uint64_t>(trajectory)));
 }
 
 }  // namespace

@@ -13,12 +13,22 @@ std::vector<std::string_view> keys_of(SamplingMethod m) {
   std::vector<std::string_view> keys = {"method", "seed"};
   switch (m) {
     case SamplingMethod::mc:
-    case SamplingMethod::lhs: keys.push_back("samples"); break;
+    case SamplingMethod::lhs:
+      keys.push_back("samples");
+      break;
     case SamplingMethod::sobol:
-    case SamplingMethod::halton: keys.insert(keys.end(), {"samples", "randomize"}); break;
-    case SamplingMethod::grid: keys.push_back("levels"); break;
-    case SamplingMethod::saltelli: keys.insert(keys.end(), {"samples", "base", "randomize"}); break;
-    case SamplingMethod::morris: keys.insert(keys.end(), {"trajectories", "levels"}); break;
+    case SamplingMethod::halton:
+      keys.insert(keys.end(), {"samples", "randomize"});
+      break;
+    case SamplingMethod::grid:
+      keys.push_back("levels");
+      break;
+    case SamplingMethod::saltelli:
+      keys.insert(keys.end(), {"samples", "base", "randomize"});
+      break;
+    case SamplingMethod::morris:
+      keys.insert(keys.end(), {"trajectories", "levels"});
+      break;
   }
   return keys;
 }
@@ -52,8 +62,8 @@ void check_method_keys(const YAML::Node& node, SamplingMethod method, const std:
   check_keys(node, allowed, path, file);  // typos, duplicates
 }
 
-std::int64_t read_count(const YAML::Node& node, const std::string& path,
-                        const SourceLocation& file, std::int64_t max) {
+std::int64_t read_count(const YAML::Node& node, const std::string& path, const SourceLocation& file,
+                        std::int64_t max) {
   const std::int64_t n = read_integer(node, path, file);
   if (n < 1 || n > max) {
     throw InputError(location_of(node, file), path,
@@ -81,8 +91,7 @@ void read_grid_levels(const YAML::Node& node, const std::string& path, const Sou
   }
   if (!node.IsMap()) {
     throw InputError(location_of(node, file), path,
-                     "expected a level count or a map {input: count}, got " +
-                         describe_node(node));
+                     "expected a level count or a map {input: count}, got " + describe_node(node));
   }
   // Input names are checked against `vary` when the Design is built (GridLevels::where).
   for (const auto& kv : node) {
@@ -94,8 +103,8 @@ void read_grid_levels(const YAML::Node& node, const std::string& path, const Sou
                          "input '" + input + "' is given twice");
       }
     }
-    spec.grid_levels_by_input.push_back({input, read_count(kv.second, key_path, file,
-                                                           max_design_runs),
+    spec.grid_levels_by_input.push_back({input,
+                                         read_count(kv.second, key_path, file, max_design_runs),
                                          location_of(kv.second, file)});
   }
 }
@@ -113,8 +122,8 @@ SamplingSpec parse_sampling(const YAML::Node& node, const SourceLocation& file_c
 
   if (node["seed"]) spec.seed = read_unsigned(node["seed"], path + ".seed", file_ctx);
 
-  const bool wants_samples = spec.method != SamplingMethod::grid &&
-                             spec.method != SamplingMethod::morris;
+  const bool wants_samples =
+      spec.method != SamplingMethod::grid && spec.method != SamplingMethod::morris;
   if (wants_samples) {
     if (!node["samples"]) {
       throw InputError(spec.where, path,

@@ -13,8 +13,9 @@
 // A key that belongs to another method is an error naming the method it belongs to; other
 // unknown keys get a did-you-mean suggestion. samples must be in [1, 1e9].
 #pragma once
-#include <string>
 #include <yaml-cpp/yaml.h>
+
+#include <string>
 
 #include "study/sampling_spec.hpp"
 #include "util/error.hpp"

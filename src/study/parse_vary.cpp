@@ -56,14 +56,12 @@ Distribution parse_distribution(const YAML::Node& node, const SourceLocation& fi
   for (const std::string_view key : spec->keys) {
     if (!node[std::string(key)]) {
       std::vector<std::string_view> params(spec->keys.begin() + 1, spec->keys.end());
-      throw InputError(location_of(node, file), path,
-                       "missing key '" + std::string(key) + "'; " + kind +
-                           " needs: " + join_names(params));
+      throw InputError(
+          location_of(node, file), path,
+          "missing key '" + std::string(key) + "'; " + kind + " needs: " + join_names(params));
     }
   }
-  const auto num = [&](const char* key) {
-    return read_finite(node[key], path + "." + key, file);
-  };
+  const auto num = [&](const char* key) { return read_finite(node[key], path + "." + key, file); };
 
   Distribution d;
   if (kind == "uniform") {

@@ -13,9 +13,10 @@
 // got low = 1.2, high = 0.8". Whether a name is a parameter or initial condition of the scene
 // is checked where the scene is known, not here.
 #pragma once
+#include <yaml-cpp/yaml.h>
+
 #include <string>
 #include <vector>
-#include <yaml-cpp/yaml.h>
 
 #include "study/varied_input.hpp"
 #include "util/error.hpp"

@@ -37,9 +37,12 @@ inline SaltelliIndex saltelli_index(std::int64_t run, std::size_t dimension) {
 // "A", "B", "AB0", "AB1", ... (input indices 0-based, like the HDF5 parameter dimension).
 inline std::string saltelli_label(const SaltelliIndex& s) {
   switch (s.block) {
-    case SaltelliBlock::A: return "A";
-    case SaltelliBlock::B: return "B";
-    case SaltelliBlock::AB: break;
+    case SaltelliBlock::A:
+      return "A";
+    case SaltelliBlock::B:
+      return "B";
+    case SaltelliBlock::AB:
+      break;
   }
   return "AB" + std::to_string(s.input);
 }

@@ -8,7 +8,9 @@ constexpr std::array<std::string_view, 7> names = {"mc",   "lhs",      "sobol", 
                                                    "grid", "saltelli", "morris"};
 }
 
-std::string_view method_name(SamplingMethod m) { return names[static_cast<std::size_t>(m)]; }
+std::string_view method_name(SamplingMethod m) {
+  return names[static_cast<std::size_t>(m)];
+}
 
 std::optional<SamplingMethod> method_from_name(std::string_view name) {
   for (std::size_t k = 0; k < names.size(); ++k) {

@@ -41,8 +41,7 @@ double SobolPoints::coordinate(std::uint64_t k, std::size_t d) const {
   return static_cast<double>(bits(k, d) >> 11) * 0x1.0p-53;
 }
 
-double SobolPoints::scrambled_coordinate(std::uint64_t k, std::size_t d,
-                                         std::uint64_t seed) const {
+double SobolPoints::scrambled_coordinate(std::uint64_t k, std::size_t d, std::uint64_t seed) const {
   const std::uint64_t x = bits(k, d);
   std::uint64_t out = 0;
   for (int depth = 0; depth < 53; ++depth) {

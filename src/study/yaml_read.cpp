@@ -20,11 +20,16 @@ SourceLocation location_of(const YAML::Node& node, const SourceLocation& file) {
 
 std::string describe_node(const YAML::Node& node) {
   switch (node.Type()) {
-    case YAML::NodeType::Map: return "a map";
-    case YAML::NodeType::Sequence: return "a list";
-    case YAML::NodeType::Scalar: return "'" + node.Scalar() + "'";
-    case YAML::NodeType::Null: return "nothing (null)";
-    case YAML::NodeType::Undefined: break;
+    case YAML::NodeType::Map:
+      return "a map";
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Scalar:
+      return "'" + node.Scalar() + "'";
+    case YAML::NodeType::Null:
+      return "nothing (null)";
+    case YAML::NodeType::Undefined:
+      break;
   }
   return "nothing";
 }
@@ -66,8 +71,7 @@ void check_keys(const YAML::Node& map, std::span<const std::string_view> allowed
 std::string read_string(const YAML::Node& node, const std::string& path,
                         const SourceLocation& file) {
   if (!node.IsScalar()) {
-    throw InputError(location_of(node, file), path,
-                     "expected a name, got " + describe_node(node));
+    throw InputError(location_of(node, file), path, "expected a name, got " + describe_node(node));
   }
   return node.Scalar();
 }

@@ -2,11 +2,12 @@
 // file:line:column (from the node's mark; yaml-cpp counts from 0, InputError from 1), the key
 // path and expected vs actual. Small enough to move to util/ when the scene parser wants them.
 #pragma once
+#include <yaml-cpp/yaml.h>
+
 #include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
-#include <yaml-cpp/yaml.h>
 
 #include "util/error.hpp"
 

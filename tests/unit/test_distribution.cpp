@@ -1,9 +1,9 @@
 // Distribution quantiles against scipy.stats (tests/fixtures/gen_distribution_quantiles.py),
 // describe(), and the invariants find_problem() enforces.
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <yaml-cpp/yaml.h>
 
 #include "study/distribution.hpp"
 #include "study/parse_vary.hpp"
@@ -38,9 +38,9 @@ TEST(Distribution, QuantilesMatchScipyToRelative1e12) {
 }
 
 TEST(Distribution, QuantileIsMonotone) {
-  for (const char* spec : {"{dist: truncnormal, mean: 1, std: 2, low: 7, high: 11}",
-                           "{dist: lognormal, mu: 0.1, sigma: 0.4}",
-                           "{dist: choice, values: [3, 0.5, 2, 1]}"}) {
+  for (const char* spec :
+       {"{dist: truncnormal, mean: 1, std: 2, low: 7, high: 11}",
+        "{dist: lognormal, mu: 0.1, sigma: 0.4}", "{dist: choice, values: [3, 0.5, 2, 1]}"}) {
     const ks::Distribution d = parse(spec);
     double previous = -INFINITY;
     for (int k = 1; k < 1000; ++k) {

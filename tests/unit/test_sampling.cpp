@@ -80,8 +80,8 @@ TEST(SobolPoints, RandomAccessEqualsBoostsSequentialEngine) {
 TEST(SobolPoints, MatchesPublishedJoeKuoPoints) {
   // Gray-code order 2-D start (Boost's documentation; Joe & Kuo's tables after the origin).
   const ks::SobolPoints two(2);
-  const double expected[][2] = {{0.5, 0.5}, {0.75, 0.25}, {0.25, 0.75}, {0.375, 0.375},
-                                {0.875, 0.875}};
+  const double expected[][2] = {
+      {0.5, 0.5}, {0.75, 0.25}, {0.25, 0.75}, {0.375, 0.375}, {0.875, 0.875}};
   for (std::size_t k = 0; k < std::size(expected); ++k) {
     EXPECT_EQ(two.coordinate(k + 1, 0), expected[k][0]);
     EXPECT_EQ(two.coordinate(k + 1, 1), expected[k][1]);
@@ -146,7 +146,8 @@ TEST(Design, LatinHypercubeHasOnePointPerStratum) {
     }
   }
   for (std::size_t d = 0; d < P; ++d) {
-    for (std::int64_t s = 0; s < N; ++s) EXPECT_EQ(count[d][s], 1) << "dim " << d << " stratum " << s;
+    for (std::int64_t s = 0; s < N; ++s)
+      EXPECT_EQ(count[d][s], 1) << "dim " << d << " stratum " << s;
   }
 }
 

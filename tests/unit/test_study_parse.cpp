@@ -1,9 +1,9 @@
 // Parsing of the study's `sampling:` and `vary:` sections: defaults, every distribution, and
 // error messages that point at the right line, column and key path.
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <functional>
-#include <yaml-cpp/yaml.h>
 
 #include "study/design.hpp"
 #include "study/parse_sampling.hpp"
@@ -183,8 +183,9 @@ TEST(ParseVary, ErrorsPointAtTheOffendingValue) {
                "vary.n.values[1]", "expected a finite number");
   expect_error([] { vary("vary:\n  n: {dist: choice, values: 3}\n"); }, 2, 29, "vary.n.values",
                "expected a list of numbers");
-  expect_error([] { vary("vary:\n  m2: {dist: fixed, value: 1}\n  m2: {dist: fixed, value: 2}\n"); },
-               3, 3, "vary.m2", "varied twice");
+  expect_error(
+      [] { vary("vary:\n  m2: {dist: fixed, value: 1}\n  m2: {dist: fixed, value: 2}\n"); }, 3, 3,
+      "vary.m2", "varied twice");
   expect_error([] { vary("vary:\n  m2: 1.0\n"); }, 2, 7, "vary.m2", "expected a map, got '1.0'");
   expect_error([] { vary("vary:\n  m2: {dist: fixed, value: 1, value: 2}\n"); }, 2, 31,
                "vary.m2.value", "given twice");
