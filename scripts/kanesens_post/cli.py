@@ -19,7 +19,7 @@ import sys
 
 import numpy as np
 
-from . import dgsm, linear_uq, morris, plot, sobol, summary
+from . import dgsm, linear_uq, morris, sobol, summary
 from .distributions import StudyError
 from .io import RunFileError, design, open_run
 
@@ -72,7 +72,13 @@ def cmd_summary(args, ds):
     return r, "\n".join(lines)
 
 
+def _plot():
+    from . import plot  # matplotlib: imported only by the commands that draw
+    return plot
+
+
 def cmd_plot(args, ds):
+    plot = _plot()
     fig = plot.plot(ds, args.kind, _csv(args.states), _csv(args.outputs), title=args.file)
     out = args.out or f"{args.file.rsplit('.', 1)[0]}_{args.kind}.png"
     plot.save(fig, out)
@@ -92,6 +98,7 @@ def cmd_sobol(args, ds):
             f"({r['base_points_dropped']} dropped for failed runs)")
     if args.over_time:
         if args.out:
+            plot = _plot()
             plot.save(plot.plot_sobol_over_time(r), args.out)
             head += f"\nwrote {args.out}"
         k = np.linspace(0, len(r["time"]) - 1, min(len(r["time"]), 11)).astype(int)
@@ -139,6 +146,7 @@ def cmd_linear_uq(args, ds):
             f"{r['mc_samples']} samples")
     if args.over_time:
         if args.out:
+            plot = _plot()
             unit = plot.units(ds.attrs.get("scene_yaml", "")).get(args.output)
             plot.save(plot.plot_linear_uq(r, unit), args.out)
             head += f"\nwrote {args.out}"

@@ -18,7 +18,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import yaml
-from scipy import stats
 
 KINDS = {"uniform": ("low", "high"), "normal": ("mean", "std"),
          "truncnormal": ("mean", "std", "low", "high"), "lognormal": ("mu", "sigma"),
@@ -36,6 +35,7 @@ class Distribution:
     params: dict = field(default_factory=dict)
 
     def _scipy(self):
+        from scipy import stats  # imported here: it costs a second and most commands skip it
         p = self.params
         if self.kind == "uniform":
             return stats.uniform(loc=p["low"], scale=p["high"] - p["low"])

@@ -114,7 +114,7 @@ def _group(path, group: str, prefix: str, ok, mask: bool) -> dict:
 
 def open_run(path) -> xr.Dataset:
     """Open a run file lazily (see the module docstring for what the Dataset holds)."""
-    ds = xr.open_dataset(path, engine="h5netcdf")
+    ds = xr.open_dataset(path, engine="h5netcdf", phony_dims="access")
     for needed in ("status", "parameters", "states", "time"):
         if needed not in ds.variables:
             raise RunFileError(f"{path}: no /{needed} dataset; is this a kanesens run file?")

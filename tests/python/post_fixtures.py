@@ -84,7 +84,7 @@ def write_run(path, *, time, state_names, parameter_names, parameters, states,
             scales[dim] = ds
 
         def put(name, data, dims, group=f):
-            ds = group.create_dataset(name, data=data, chunks=(1,) + tuple(data.shape[1:]))
+            ds = group.create_dataset(name, data=data, chunks=(min(64, len(data)),) + data.shape[1:])
             _attach(ds, dims, scales)
             return ds
 
