@@ -151,7 +151,8 @@ def cmd_linear_uq(args, ds):
             plot.save(plot.plot_linear_uq(r, unit), args.out)
             head += f"\nwrote {args.out}"
         first = r["first_breakdown_time"]
-        head += (f"\nlinearisation holds (|ratio-1| <= {args.tol:g}) at "
+        head += (f"\nlinearisation holds (|ratio-1| <= {args.tol:g} and |mean bias| <= "
+                 f"{args.tol:g} std) at "
                  f"{100 * r['holds_fraction']:.0f}% of output times; "
                  + ("everywhere" if first is None else f"first fails at t = {_fmt(first)} s"))
         k = np.linspace(0, len(r["time"]) - 1, min(len(r["time"]), 11)).astype(int)

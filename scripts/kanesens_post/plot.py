@@ -26,19 +26,25 @@ JOINT_UNITS = {
              "vx": "m/s", "vy": "m/s", "vz": "m/s", "wx": "rad/s", "wy": "rad/s", "wz": "rad/s"},
 }
 OUTPUT_UNITS = {"energy": "J", "kinetic_energy": "J", "potential_energy": "J"}
+#: constraint type -> unit of its multipliers (forces between points; others are generalized)
+CONSTRAINT_UNITS = {"coincident": "N", "distance": "N"}
 
 
 def units(scene_yaml: str) -> dict:
-    """{state or output name: unit} from the scene text (the run's scene_yaml attribute)."""
+    """{state, output or constraint name: unit} from the scene text (the run's scene_yaml)."""
     out = dict(OUTPUT_UNITS)
     try:
         doc = yaml.safe_load(scene_yaml or "") or {}
     except yaml.YAMLError:
         return out
     scene = doc.get("scene", doc) if isinstance(doc, dict) else {}
-    for joint in (scene.get("joints") or []) if isinstance(scene, dict) else []:
+    scene = scene if isinstance(scene, dict) else {}
+    for joint in scene.get("joints") or []:
         for suffix, unit in JOINT_UNITS.get(joint.get("type"), {}).items():
             out[f"{joint.get('name')}.{suffix}"] = unit
+    for constraint in scene.get("constraints") or []:
+        out[f"constraint:{constraint.get('name')}"] = CONSTRAINT_UNITS.get(
+            constraint.get("type"), "generalized force")
     return out
 
 
@@ -105,7 +111,9 @@ def plot(ds, kind="states", states=None, outputs=None, title=None):
         fig, axes = _figure(len(names))
         for ax, name in zip(axes, names):
             n = _bands(ax, t, np.asarray(ds["multipliers"].sel(constraint=name).values, float))
-            ax.set_ylabel(f"λ {name}\n[N or N·m]")
+            base = name.split(".")[0].split("[")[0]      # "tip.x" or "tip[0]" -> "tip"
+            ax.set_ylabel(_label(f"λ {name}", unit.get(f"constraint:{base}",
+                                                        "generalized force")))
     else:
         raise RunFileError(f"unknown --kind {kind}; choose states, sensitivities, multipliers")
     axes[0].legend(fontsize=8, loc="best")
@@ -134,7 +142,7 @@ def save(fig, path):
 def plot_sobol_over_time(result: dict):
     """S1 (solid) and ST (dashed) of each input against time, with bootstrap bands if present."""
     t = result["time"]
-    fig, ax = plt.subplots(figsize=(7.5, 3.8))
+    fig, ax = plt.subplots(figsize=(9, 3.8))
     for j, name in enumerate(result["inputs"]):
         ax.plot(t, result["S1"][j], color=f"C{j}", lw=1.4, label=f"S1 {name}")
         ax.plot(t, result["ST"][j], color=f"C{j}", lw=1.2, ls="--", label=f"ST {name}")
@@ -145,30 +153,41 @@ def plot_sobol_over_time(result: dict):
     ax.set_ylabel(f"Sobol' index of {result['output']} [-]")
     ax.set_ylim(-0.05, 1.05)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, ncol=2, loc="best")
-    ax.set_title(f"first-order (Saltelli 2010) and total (Jansen) indices, "
-                 f"{result['base_points']} base points")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.set_title(f"first-order (Saltelli 2010, solid) and total (Jansen, dashed; 95 % band) "
+                 f"indices, {result['base_points']} base points", fontsize=10)
     fig.tight_layout()
     return fig
 
 
 def plot_linear_uq(result: dict, unit=None):
-    """Standard deviation from linear propagation against Monte Carlo, and their ratio."""
-    t = result["time"]
-    fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 5.2), sharex=True)
+    """Standard deviation from linear propagation against Monte Carlo; the two criteria of the
+    verdict (variance ratio, mean bias in MC standard deviations) with their tolerance bands."""
+    t, tol = result["time"], result["tolerance"]
+    fig, (ax, bx, cx) = plt.subplots(3, 1, figsize=(7.5, 6.8), sharex=True)
     ax.plot(t, np.sqrt(result["variance_mc"]), lw=1.6, label="Monte Carlo")
     ax.plot(t, np.sqrt(result["variance_linear"]), lw=1.2, ls="--",
             label="linear (sensitivities at the mean)")
     ax.set_ylabel(_label(f"std of {result['output']}", unit))
     ax.legend(fontsize=8)
     bx.plot(t, result["variance_ratio"], color="C2", lw=1.2)
-    tol = result["tolerance"]
-    bx.axhspan(1 - tol, 1 + tol, color="C2", alpha=0.15, label=f"±{tol:g}: linearisation holds")
+    bx.axhspan(1 - tol, 1 + tol, color="C2", alpha=0.15, label=f"1 ± {tol:g}")
     bx.set_ylabel("Var_lin / Var_MC [-]")
-    bx.set_yscale("log")
-    bx.set_xlabel("time [s]")
-    bx.legend(fontsize=8)
-    for a in (ax, bx):
+    bx.legend(fontsize=8, loc="lower left")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        bias = np.abs(result["mean_linear"] - result["mean_mc"]) / np.sqrt(result["variance_mc"])
+    cx.plot(t, bias, color="C3", lw=1.2)
+    cx.axhspan(0, tol, color="C3", alpha=0.15, label=f"≤ {tol:g}")
+    cx.set_ylabel("|mean_lin − mean_MC|\n/ std_MC [-]")
+    cx.legend(fontsize=8, loc="upper left")
+    cx.set_xlabel("time [s]")
+    first = result.get("first_breakdown_time")
+    for a in (ax, bx, cx):
         a.grid(alpha=0.3)
+        if first is not None:
+            a.axvline(first, color="k", lw=0.8, ls=":")
+    ax.set_title("linearisation holds where both criteria are inside their bands"
+                 + (f"; first fails at t = {first:.3g} s (dotted)" if first is not None else ""),
+                 fontsize=10)
     fig.tight_layout()
     return fig

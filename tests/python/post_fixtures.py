@@ -214,16 +214,37 @@ def write_function_run(path, x, names, values, gradient=None, method="mc", vary=
                      outputs=None if output is None else {output: values})
 
 
+PENDULUM_VARY = {"L": {"dist": "uniform", "low": 0.95, "high": 1.05},
+                 "m": {"dist": "uniform", "low": 0.5, "high": 1.5},
+                 "pivot.q0": {"dist": "normal", "mean": 0.3, "std": 0.03}}
+
+
+def _pendulum_ppfs():
+    from scipy.stats import norm
+    return [lambda u: uniform_ppf(u, 0.95, 1.05), lambda u: uniform_ppf(u, 0.5, 1.5),
+            lambda u: norm.ppf(u, 0.3, 0.03)]
+
+
 def pendulum_saltelli(path, n_base=256, nt=201, t_end=10.0, seed=3, fail=(5, 77)):
+    """The pendulum of pendulum_run() in a Saltelli design of n_base base points."""
+    x, _, _ = saltelli_design(n_base, _pendulum_ppfs(), seed=seed)
+    return pendulum_run(path, x, "saltelli", n_base, nt, t_end, seed, fail)
+
+
+def pendulum_morris(path, r=40, nt=201, t_end=10.0, seed=3, fail=(5,)):
+    """The pendulum of pendulum_run() in r Morris trajectories (4 levels, mapped through the
+    inputs' quantile functions; the normal's 0 and 1 levels are moved to 1/8 and 7/8)."""
+    u = np.clip(morris_design(r, 3, levels=4, seed=seed), 0.125, 0.875)
+    x = np.column_stack([ppf(u[:, i]) for i, ppf in enumerate(_pendulum_ppfs())])
+    return pendulum_run(path, x, "morris", r, nt, t_end, seed, fail)
+
+
+def pendulum_run(path, x, method, samples, nt, t_end, seed, fail):
     """Small-angle pendulum θ(t) = θ0 cos(ωt), ω = √(g/L), with L ~ U(0.95, 1.05),
-    m ~ U(0.5, 1.5) (no effect on θ) and θ0 ~ N(0.3, 0.03), in a Saltelli design; rod tension
+    m ~ U(0.5, 1.5) (no effect on θ) and θ0 ~ N(0.3, 0.03) (columns of x); rod tension
     as a multiplier, energy as an output, forward sensitivities ∂(θ, θ̇)/∂(L, m, θ0).
     Samples listed in `fail` are marked failed (status −3)."""
     g = 9.81
-    from scipy.stats import norm
-    ppfs = [lambda u: uniform_ppf(u, 0.95, 1.05), lambda u: uniform_ppf(u, 0.5, 1.5),
-            lambda u: norm.ppf(u, 0.3, 0.03)]
-    x, _, _ = saltelli_design(n_base, ppfs, seed=seed)
     L, m, q0 = x[:, 0:1], x[:, 1:2], x[:, 2:3]
     t = np.linspace(0.0, t_end, nt)[None, :]
     w = np.sqrt(g / L)
@@ -250,26 +271,25 @@ def pendulum_saltelli(path, n_base=256, nt=201, t_end=10.0, seed=3, fail=(5, 77)
              "jac_evals": rng.integers(10, 40, ns), "error_test_fails": rng.integers(0, 5, ns),
              "wall_seconds": rng.uniform(0.01, 0.05, ns)}
     study = {"kanesens": 1, "scene": "pendulum.yaml", "time": {"end": t_end, "outputs": nt},
-             "sampling": {"method": "saltelli", "samples": n_base, "seed": seed},
-             "vary": {"L": {"dist": "uniform", "low": 0.95, "high": 1.05},
-                      "m": {"dist": "uniform", "low": 0.5, "high": 1.5},
-                      "pivot.q0": {"dist": "normal", "mean": 0.3, "std": 0.03}},
+             "sampling": {"method": method, "samples": samples, "seed": seed},
+             "vary": PENDULUM_VARY,
              "sensitivities": ["L", "m", "pivot.q0"],
              "record": ["states", "multipliers", "sensitivities", "energy"]}
     scene = {"kanesens": 1, "scene": {"name": "pendulum", "gravity": [0, -g, 0],
              "parameters": {"L": 1.0, "m": 1.0},
              "joints": [{"name": "pivot", "type": "revolute", "parent": "ground",
-                         "child": "bob", "axis": [0, 0, 1]}]}}
+                         "child": "bob", "axis": [0, 0, 1]}],
+             "constraints": [{"name": "rod", "type": "distance"}]}}
     return write_run(path, time=t[0], state_names=["pivot.q", "pivot.u"],
                      parameter_names=["L", "m", "pivot.q0"], parameters=x, states=states,
                      sensitivity_names=["L", "m", "pivot.q0"], sensitivities=sens,
                      constraint_names=["rod"], multipliers=tension[..., None],
                      outputs={"energy": energy}, status=status, message=message,
-                     solver_stats=stats, sampling_method="saltelli", seed=seed, study=study,
+                     solver_stats=stats, sampling_method=method, seed=seed, study=study,
                      scene=scene)
 
 
-EXAMPLES = {"pendulum-saltelli": pendulum_saltelli}
+EXAMPLES = {"pendulum-saltelli": pendulum_saltelli, "pendulum-morris": pendulum_morris}
 
 if __name__ == "__main__":
     if len(sys.argv) != 3 or sys.argv[1] not in EXAMPLES:
