@@ -76,3 +76,14 @@ def test_not_a_run_file(tmp_path):
         f["time"] = [0.0]
     with pytest.raises(RunFileError, match="no /status"):
         open_run(tmp_path / "x.h5")
+
+
+def test_file_without_output_groups(tmp_path):
+    import h5py
+    path = write_run(tmp_path / "g.h5", time=[0.0, 1.0], state_names=["a.q"],
+                     parameter_names=["k"], parameters=[[1.0], [2.0]],
+                     states=np.zeros((2, 2, 1)))
+    with h5py.File(path, "a") as f:
+        del f["outputs"], f["solver_stats"]
+    ds = open_run(path)
+    assert not [v for v in ds.data_vars if v.startswith(("output_", "solver_stats_"))]
