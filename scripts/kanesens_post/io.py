@@ -189,6 +189,16 @@ class Design:
     row: np.ndarray
     dists: dict
 
+    def block_index(self, size: int, what: str) -> np.ndarray:
+        """(nblock, size) run indices, row by row; a missing or extra run is an error."""
+        nblock = int(self.block.max()) + 1
+        index = np.full((nblock, size), -1)
+        index[self.block, self.row] = np.arange(self.block.size)
+        if (index < 0).any() or self.block.size != nblock * size:
+            raise RunFileError(f"{what} design incomplete: {self.block.size} runs for {nblock} "
+                               f"blocks of {size} runs")
+        return index
+
 
 def design(ds: xr.Dataset) -> Design:
     """Read the design. Block labels come from /design_block and /design_row when the file has

@@ -25,12 +25,8 @@ def trajectories(des: Design, y: np.ndarray):
     if des.method != "morris":
         raise RunFileError(f"morris needs a Morris design; this run's sampling_method is "
                            f"'{des.method}'")
-    r = int(des.block.max()) + 1
-    index = np.full((r, p + 1), -1)
-    index[des.block, des.row] = np.arange(des.block.size)
-    if (index < 0).any() or des.block.size != r * (p + 1):
-        raise RunFileError(f"Morris design incomplete: {des.block.size} runs for {r} "
-                           f"trajectories of P+1 = {p + 1} runs")
+    index = des.block_index(p + 1, "Morris")
+    r = index.shape[0]
     yt = y[index]
     bad = np.isnan(yt.reshape(r, -1)).any(axis=1)
     return des.x[index][~bad], yt[~bad], int(bad.sum())

@@ -53,14 +53,15 @@ def _label(name, unit):
 
 
 def _bands(ax, t, y, color="C0", label=None):
-    """5–95 and 25–75 % bands and the median of y (sample, time), NaN rows (failed) left out."""
+    """Median and 25–75 % band of y (sample, time), and the 5–95 % band unless a label is given
+    (several series share the panel); NaN rows (failed samples) are left out."""
     y = y[~np.isnan(y).any(axis=1)]
     if y.shape[0] == 0:
         raise RunFileError("no completed samples to plot")
     p5, p25, p50, p75, p95 = np.percentile(y, [5, 25, 50, 75, 95], axis=0)
-    ax.fill_between(t, p5, p95, color=color, alpha=0.18, lw=0,
-                    label="5–95 %" if label is None else None)
-    ax.fill_between(t, p25, p75, color=color, alpha=0.38, lw=0,
+    if label is None:
+        ax.fill_between(t, p5, p95, color=color, alpha=0.18, lw=0, label="5–95 %")
+    ax.fill_between(t, p25, p75, color=color, alpha=0.38 if label is None else 0.3, lw=0,
                     label="25–75 %" if label is None else None)
     ax.plot(t, p50, color=color, lw=1.4, label="median" if label is None else label)
     return y.shape[0]
@@ -100,7 +101,7 @@ def plot(ds, kind="states", states=None, outputs=None, title=None):
         for ax, name in zip(axes, names):
             sens = np.asarray(state_sensitivities(ds, name).values, float)
             for j, p in enumerate(params):
-                n = _bands_quiet(ax, t, sens[..., j], f"C{j}", f"∂/∂{p} (median, 25–75 %)")
+                n = _bands(ax, t, sens[..., j], f"C{j}", f"∂/∂{p} (median, 25–75 %)")
             ax.set_ylabel(f"∂ {name} / ∂p" + (f"\n[{unit[name]} per unit of p]"
                                               if name in unit else ""))
             ax.legend(fontsize=8, loc="best")
@@ -123,15 +124,6 @@ def plot(ds, kind="states", states=None, outputs=None, title=None):
     fig.suptitle(f"{title or ''}  ({n} completed samples)".strip())
     fig.tight_layout()
     return fig
-
-
-def _bands_quiet(ax, t, y, color, label):
-    """Median and 25–75 % band only (several parameters share a panel)."""
-    y = y[~np.isnan(y).any(axis=1)]
-    p25, p50, p75 = np.percentile(y, [25, 50, 75], axis=0)
-    ax.fill_between(t, p25, p75, color=color, alpha=0.3, lw=0)
-    ax.plot(t, p50, color=color, lw=1.3, label=label)
-    return y.shape[0]
 
 
 def save(fig, path):

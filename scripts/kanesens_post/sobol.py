@@ -25,12 +25,8 @@ def saltelli_blocks(des: Design, y: np.ndarray):
     if des.method != "saltelli":
         raise RunFileError(f"sobol needs a Saltelli design; this run's sampling_method is "
                            f"'{des.method}'")
-    nblock = int(des.block.max()) + 1
-    index = np.full((nblock, p + 2), -1)
-    index[des.block, des.row] = np.arange(des.block.size)
-    if (index < 0).any() or des.block.size != nblock * (p + 2):
-        raise RunFileError(f"Saltelli design incomplete: {des.block.size} runs for {nblock} base "
-                           f"points of P+2 = {p + 2} runs")
+    index = des.block_index(p + 2, "Saltelli")
+    nblock = index.shape[0]
     x = des.x[index]                                     # (N, P+2, P)
     a, b = x[:, 0], x[:, 1]
     for i in range(p):
