@@ -1,0 +1,7 @@
+"""Post-processing of kanesens run files (HDF5 layout: ../shared/DESIGN.md §6).
+
+    from kanesens_post.io import open_run, design
+    ds = open_run("out.h5")            # lazy xarray.Dataset, failed samples NaN
+"""
+__all__ = ["io", "distributions", "summary", "plot", "sobol", "morris", "dgsm", "linear_uq",
+           "cli"]
