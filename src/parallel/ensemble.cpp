@@ -2,6 +2,9 @@
 
 #include <unistd.h>
 
+#include <csignal>
+#include <cstdlib>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -164,6 +167,10 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
   long long local_ok = 0, local_failed = 0;
   double io_s = 0, sched_s = 0, compute_s = 0;
   const bool progress = rank == 0 && (opt.progress || isatty(STDERR_FILENO));
+  // Fault injection for the kill-and-resume test: SIGKILL this process after it wrote N rows.
+  const char* kill_env = std::getenv("KANESENS_FAULT_KILL_AFTER_SAMPLES");
+  const long long kill_after = kill_env ? std::atoll(kill_env) : -1;
+  long long written = 0;
   auto last_progress = Clock::now();
 
   for (;;) {
@@ -224,6 +231,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
       row.stats = stats;
       file.write_sample(row);
       io_s += seconds_since(t0);
+      if (++written == kill_after) std::raise(SIGKILL);
       t0 = Clock::now();
       done.fetch_add(1);
       sched_s += seconds_since(t0);

@@ -1,0 +1,86 @@
+"""Checks on `kanesens run` output files for the MPI tests (run with Debian's python3).
+
+  check_ensemble.py same A.h5 B.h5        datasets bitwise equal (timings excepted)
+  check_ensemble.py xarray A.h5           named dimensions, coordinates, attributes via xarray
+  check_ensemble.py status A.h5 OK FAIL NOTRUN   counts of status 1, < 0 and 0
+"""
+import sys
+
+import h5py
+import numpy as np
+
+TIMING = {"solver_stats/wall_seconds"}
+
+
+def datasets(f):
+    out = {}
+    f.visititems(lambda name, obj: out.__setitem__(name, obj[()]) if isinstance(obj, h5py.Dataset) else None)
+    return out
+
+
+def same(a, b):
+    with h5py.File(a, "r") as fa, h5py.File(b, "r") as fb:
+        da, db = datasets(fa), datasets(fb)
+        assert set(da) == set(db), (set(da) ^ set(db))
+        for name in sorted(da):
+            if name in TIMING:
+                continue
+            x, y = da[name], db[name]
+            assert x.shape == y.shape and x.dtype == y.dtype, name
+            if x.dtype.kind == "f":
+                # bitwise, NaN included
+                assert np.array_equal(x.view(np.uint64 if x.itemsize == 8 else np.uint32),
+                                      y.view(np.uint64 if y.itemsize == 8 else np.uint32)), name
+            else:
+                assert np.array_equal(x, y), name
+        for key in ("scene_yaml", "study_yaml", "study_hash", "sampling_method"):
+            assert fa.attrs[key] == fb.attrs[key], key
+    print(f"same: {a} == {b} ({len(da)} datasets)")
+
+
+def check_xarray(path):
+    import xarray as xr
+    ds = xr.open_dataset(path, engine="h5netcdf")
+    assert ds["states"].dims == ("sample", "time", "state"), ds["states"].dims
+    assert ds["sensitivities"].dims == ("sample", "time", "state", "sensitivity")
+    assert ds["parameters"].dims == ("sample", "parameter")
+    assert list(ds["state"].values) == ["shoulder.q", "elbow.q", "shoulder.u", "elbow.u"], ds["state"].values
+    assert list(ds["sensitivity"].values) == ["m2", "L1"]
+    assert list(ds["parameter"].values) == ["m2", "elbow.q0"]
+    x = ds["states"].sel(state="elbow.q").isel(time=0).values
+    p = ds["initial_state"].sel(state="elbow.q").values
+    assert np.allclose(x, p)
+    # The elbow's initial angle is the sampled one; its sensitivity to m2 starts at 0.
+    assert np.allclose(ds["parameters"].sel(parameter="elbow.q0").values, p)
+    assert np.all(ds["sensitivities"].isel(time=0).values == 0)
+    for key in ("kanesens_version", "scene_yaml", "study_yaml", "created_utc", "mpi_ranks", "sampling_method", "seed"):
+        assert key in ds.attrs, key
+    assert "double_pendulum" in ds.attrs["scene_yaml"]
+    st = xr.open_dataset(path, engine="h5netcdf", group="solver_stats")
+    assert "steps" in st and st["steps"].dims == ("sample",)
+    out = xr.open_dataset(path, engine="h5netcdf", group="outputs")
+    assert out["energy"].dims == ("sample", "time")
+    print(f"xarray: {path} ok, dims {dict(ds.sizes)}")
+
+
+def status(path, ok, fail, notrun):
+    with h5py.File(path, "r") as f:
+        s = f["status"][()]
+        msg = f["message"][()]
+    counts = (int(np.sum(s == 1)), int(np.sum(s < 0)), int(np.sum(s == 0)))
+    assert counts == (int(ok), int(fail), int(notrun)), f"status counts {counts} != {(ok, fail, notrun)}"
+    for i in np.flatnonzero(s < 0):
+        assert len(msg[i]) > 0, f"failed sample {i} has no message"
+    print(f"status: {path} ok={counts[0]} failed={counts[1]} not_run={counts[2]}")
+
+
+if __name__ == "__main__":
+    cmd = sys.argv[1]
+    if cmd == "same":
+        same(sys.argv[2], sys.argv[3])
+    elif cmd == "xarray":
+        check_xarray(sys.argv[2])
+    elif cmd == "status":
+        status(*sys.argv[2:6])
+    else:
+        raise SystemExit(f"unknown check {cmd}")
