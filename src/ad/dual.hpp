@@ -1,94 +1,106 @@
-// Forward-mode dual number with one tangent: x = v + d ε, ε² = 0.
+// Forward-mode dual numbers: x = v + d ε, ε² = 0, with v and d of type T (double, or a dual
+// number again for second derivatives).
 // Evaluating the model on Dual gives exact directional derivatives: with tangents (ẏ, ṗ) seeded
 // on the state and parameters, the tangent of the right-hand side is J ẏ + (∂f/∂p) ṗ — one
-// Jacobian column, or one CVODES sensitivity right-hand side, per evaluation.
+// Jacobian column, or one CVODES sensitivity right-hand side, per evaluation. DualT<Dual> gives
+// the second time derivatives that constraint biases need (Ȧu + ȧ0 of a position constraint).
 #pragma once
 #include <Eigen/Core>
 #include <cmath>
+#include <type_traits>
 
 namespace kanesens {
 
-struct Dual {
-  double v = 0;  // value
-  double d = 0;  // tangent
-  constexpr Dual() = default;
-  constexpr Dual(double value) : v(value) {}  // NOLINT: implicit from constants is intended
-  constexpr Dual(double value, double tangent) : v(value), d(tangent) {}
+template <class T>
+struct DualT {
+  T v = T(0);  // value
+  T d = T(0);  // tangent
+  constexpr DualT() = default;
+  constexpr DualT(double value) : v(value) {}  // NOLINT: implicit from constants is intended
+  template <class U = T, std::enable_if_t<!std::is_same_v<U, double>, int> = 0>
+  constexpr DualT(const T& value) : v(value) {}  // NOLINT
+  constexpr DualT(const T& value, const T& tangent) : v(value), d(tangent) {}
 
-  Dual& operator+=(const Dual& o) { v += o.v; d += o.d; return *this; }
-  Dual& operator-=(const Dual& o) { v -= o.v; d -= o.d; return *this; }
-  Dual& operator*=(const Dual& o) { d = d * o.v + v * o.d; v *= o.v; return *this; }
-  Dual& operator/=(const Dual& o) {
-    const double inv = 1.0 / o.v;
+  DualT& operator+=(const DualT& o) { v += o.v; d += o.d; return *this; }
+  DualT& operator-=(const DualT& o) { v -= o.v; d -= o.d; return *this; }
+  DualT& operator*=(const DualT& o) { d = d * o.v + v * o.d; v *= o.v; return *this; }
+  DualT& operator/=(const DualT& o) {
+    const T inv = T(1) / o.v;
     v *= inv;
     d = (d - v * o.d) * inv;
     return *this;
   }
 };
+using Dual = DualT<double>;
 
-inline Dual operator+(Dual a, const Dual& b) { return a += b; }
-inline Dual operator-(Dual a, const Dual& b) { return a -= b; }
-inline Dual operator*(Dual a, const Dual& b) { return a *= b; }
-inline Dual operator/(Dual a, const Dual& b) { return a /= b; }
-inline Dual operator+(const Dual& a, double b) { return {a.v + b, a.d}; }
-inline Dual operator+(double a, const Dual& b) { return {a + b.v, b.d}; }
-inline Dual operator-(const Dual& a, double b) { return {a.v - b, a.d}; }
-inline Dual operator-(double a, const Dual& b) { return {a - b.v, -b.d}; }
-inline Dual operator*(const Dual& a, double b) { return {a.v * b, a.d * b}; }
-inline Dual operator*(double a, const Dual& b) { return {a * b.v, a * b.d}; }
-inline Dual operator/(const Dual& a, double b) { return {a.v / b, a.d / b}; }
-inline Dual operator/(double a, const Dual& b) {
-  const double r = a / b.v;
+template <class T> DualT<T> operator+(DualT<T> a, const DualT<T>& b) { return a += b; }
+template <class T> DualT<T> operator-(DualT<T> a, const DualT<T>& b) { return a -= b; }
+template <class T> DualT<T> operator*(DualT<T> a, const DualT<T>& b) { return a *= b; }
+template <class T> DualT<T> operator/(DualT<T> a, const DualT<T>& b) { return a /= b; }
+template <class T> DualT<T> operator+(const DualT<T>& a, double b) { return {a.v + b, a.d}; }
+template <class T> DualT<T> operator+(double a, const DualT<T>& b) { return {a + b.v, b.d}; }
+template <class T> DualT<T> operator-(const DualT<T>& a, double b) { return {a.v - b, a.d}; }
+template <class T> DualT<T> operator-(double a, const DualT<T>& b) { return {a - b.v, -b.d}; }
+template <class T> DualT<T> operator*(const DualT<T>& a, double b) { return {a.v * b, a.d * b}; }
+template <class T> DualT<T> operator*(double a, const DualT<T>& b) { return {a * b.v, a * b.d}; }
+template <class T> DualT<T> operator/(const DualT<T>& a, double b) { return {a.v / b, a.d / b}; }
+template <class T> DualT<T> operator/(double a, const DualT<T>& b) {
+  const T r = a / b.v;
   return {r, -r * b.d / b.v};
 }
-inline Dual operator-(const Dual& a) { return {-a.v, -a.d}; }
-inline Dual operator+(const Dual& a) { return a; }
+template <class T> DualT<T> operator-(const DualT<T>& a) { return {-a.v, -a.d}; }
+template <class T> DualT<T> operator+(const DualT<T>& a) { return a; }
 
-inline bool operator==(const Dual& a, const Dual& b) { return a.v == b.v; }
-inline bool operator!=(const Dual& a, const Dual& b) { return a.v != b.v; }
-inline bool operator<(const Dual& a, const Dual& b) { return a.v < b.v; }
-inline bool operator>(const Dual& a, const Dual& b) { return a.v > b.v; }
-inline bool operator<=(const Dual& a, const Dual& b) { return a.v <= b.v; }
-inline bool operator>=(const Dual& a, const Dual& b) { return a.v >= b.v; }
+template <class T> bool operator==(const DualT<T>& a, const DualT<T>& b) { return a.v == b.v; }
+template <class T> bool operator!=(const DualT<T>& a, const DualT<T>& b) { return a.v != b.v; }
+template <class T> bool operator<(const DualT<T>& a, const DualT<T>& b) { return a.v < b.v; }
+template <class T> bool operator>(const DualT<T>& a, const DualT<T>& b) { return a.v > b.v; }
+template <class T> bool operator<=(const DualT<T>& a, const DualT<T>& b) { return a.v <= b.v; }
+template <class T> bool operator>=(const DualT<T>& a, const DualT<T>& b) { return a.v >= b.v; }
 
-inline Dual sin(const Dual& a) { return {std::sin(a.v), std::cos(a.v) * a.d}; }
-inline Dual cos(const Dual& a) { return {std::cos(a.v), -std::sin(a.v) * a.d}; }
-inline Dual tan(const Dual& a) {
-  const double t = std::tan(a.v);
-  return {t, (1 + t * t) * a.d};
-}
-inline Dual asin(const Dual& a) { return {std::asin(a.v), a.d / std::sqrt(1 - a.v * a.v)}; }
-inline Dual acos(const Dual& a) { return {std::acos(a.v), -a.d / std::sqrt(1 - a.v * a.v)}; }
-inline Dual atan(const Dual& a) { return {std::atan(a.v), a.d / (1 + a.v * a.v)}; }
-inline Dual atan2(const Dual& y, const Dual& x) {
-  const double r2 = x.v * x.v + y.v * y.v;
-  return {std::atan2(y.v, x.v), (x.v * y.d - y.v * x.d) / r2};
-}
-inline Dual exp(const Dual& a) {
-  const double e = std::exp(a.v);
-  return {e, e * a.d};
-}
-inline Dual log(const Dual& a) { return {std::log(a.v), a.d / a.v}; }
-inline Dual sqrt(const Dual& a) {
-  const double s = std::sqrt(a.v);
-  return {s, s > 0 ? a.d / (2 * s) : 0.0};
-}
-inline Dual abs(const Dual& a) { return {std::abs(a.v), a.v < 0 ? -a.d : a.d}; }
-inline Dual pow(const Dual& a, const Dual& b) {
-  const double p = std::pow(a.v, b.v);
-  double d = b.v * std::pow(a.v, b.v - 1) * a.d;
-  if (b.d != 0 && a.v > 0) d += p * std::log(a.v) * b.d;
-  return {p, d};
-}
-inline Dual min(const Dual& a, const Dual& b) { return a.v <= b.v ? a : b; }
-inline Dual max(const Dual& a, const Dual& b) { return a.v >= b.v ? a : b; }
-inline bool isfinite(const Dual& a) { return std::isfinite(a.v) && std::isfinite(a.d); }
-
-// Scalar-generic helpers so templated code reads the same for double and Dual.
+// Scalar-generic helpers so templated code reads the same for double and duals.
 inline double value_of(double x) { return x; }
-inline double value_of(const Dual& x) { return x.v; }
+template <class T> double value_of(const DualT<T>& x) { return value_of(x.v); }
 inline double tangent_of(double) { return 0.0; }
 inline double tangent_of(const Dual& x) { return x.d; }
+
+template <class T> DualT<T> sin(const DualT<T>& a) { using std::sin, std::cos; return {sin(a.v), cos(a.v) * a.d}; }
+template <class T> DualT<T> cos(const DualT<T>& a) { using std::sin, std::cos; return {cos(a.v), -sin(a.v) * a.d}; }
+template <class T> DualT<T> tan(const DualT<T>& a) {
+  using std::tan;
+  const T t = tan(a.v);
+  return {t, (T(1) + t * t) * a.d};
+}
+template <class T> DualT<T> asin(const DualT<T>& a) { using std::asin, std::sqrt; return {asin(a.v), a.d / sqrt(T(1) - a.v * a.v)}; }
+template <class T> DualT<T> acos(const DualT<T>& a) { using std::acos, std::sqrt; return {acos(a.v), -a.d / sqrt(T(1) - a.v * a.v)}; }
+template <class T> DualT<T> atan(const DualT<T>& a) { using std::atan; return {atan(a.v), a.d / (T(1) + a.v * a.v)}; }
+template <class T> DualT<T> atan2(const DualT<T>& y, const DualT<T>& x) {
+  using std::atan2;
+  const T r2 = x.v * x.v + y.v * y.v;
+  return {atan2(y.v, x.v), (x.v * y.d - y.v * x.d) / r2};
+}
+template <class T> DualT<T> exp(const DualT<T>& a) {
+  using std::exp;
+  const T e = exp(a.v);
+  return {e, e * a.d};
+}
+template <class T> DualT<T> log(const DualT<T>& a) { using std::log; return {log(a.v), a.d / a.v}; }
+template <class T> DualT<T> sqrt(const DualT<T>& a) {
+  using std::sqrt;
+  const T s = sqrt(a.v);
+  return {s, value_of(s) > 0 ? a.d / (T(2) * s) : T(0)};
+}
+template <class T> DualT<T> abs(const DualT<T>& a) { using std::abs; return {abs(a.v), value_of(a.v) < 0 ? -a.d : a.d}; }
+template <class T> DualT<T> pow(const DualT<T>& a, const DualT<T>& b) {
+  using std::pow, std::log;
+  const T p = pow(a.v, b.v);
+  T d = b.v * pow(a.v, b.v - T(1)) * a.d;
+  if (value_of(b.d) != 0 && value_of(a.v) > 0) d += p * log(a.v) * b.d;
+  return {p, d};
+}
+template <class T> DualT<T> min(const DualT<T>& a, const DualT<T>& b) { return a.v <= b.v ? a : b; }
+template <class T> DualT<T> max(const DualT<T>& a, const DualT<T>& b) { return a.v >= b.v ? a : b; }
+template <class T> bool isfinite(const DualT<T>& a) { using std::isfinite; return isfinite(a.v) && isfinite(a.d); }
 
 }  // namespace kanesens
 
