@@ -5,9 +5,9 @@
 //       -lsundials_cvodes -lsundials_nvecserial -lsundials_sunlinsoldense
 //       -lsundials_sunmatrixdense -o build/solve_reuse && build/solve_reuse
 // Timings alternate reuse/fresh rounds and keep each mode's best round (shared machine).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <algorithm>
 #include <cstdio>
 #include <vector>
 
@@ -65,8 +65,10 @@ class Chain : public ks::OdeProblem {
   void sensitivity_rhs(double t, const double* y, const double*, int i, const double* s,
                        double* sdot) override {
     rhs(t, s, sdot);  // linear: J s = f(s)
-    if (i == 0) for (int j = 0; j < m_; ++j) sdot[m_ + j] += force(y, y + m_, j, 1, 0);
-    if (i == 1) for (int j = 0; j < m_; ++j) sdot[m_ + j] += force(y, y + m_, j, 0, 1);
+    if (i == 0)
+      for (int j = 0; j < m_; ++j) sdot[m_ + j] += force(y, y + m_, j, 1, 0);
+    if (i == 1)
+      for (int j = 0; j < m_; ++j) sdot[m_ + j] += force(y, y + m_, j, 0, 1);
   }
   std::vector<double> sensitivity_scales() const override { return {k, c, 1}; }
 
@@ -84,38 +86,40 @@ int main() {
   std::printf("%-6s %-5s %-6s %-8s %12s %12s %8s\n", "n", "sens", "t_end", "samples", "reuse_us",
               "fresh_us", "ratio");
   for (const std::vector<double>& times : {short_run, long_run})
-  for (int m : {1, 10, 40}) {
-    for (bool sens : {false, true}) {
-      const int samples = times.size() == 2 ? 2000 : (m >= 40 ? 50 : 500);
-      ks::SolverOptions o;  // defaults: BDF, rtol 1e-8, exact Jacobian, staggered
-      Chain chain(m, sens);
-      long steps_reuse = 0, steps_fresh = 0;
-      auto time_it = [&](bool reuse) {
-        ks::Integrator shared(o);
-        long steps = 0;
-        const auto start = std::chrono::steady_clock::now();
-        for (int s = 0; s < samples; ++s) {
-          chain.k = 4 + 0.001 * s;
-          if (reuse) {
-            steps += shared.integrate(chain, times, record).stats.steps;
-          } else {
-            ks::Integrator fresh(o);
-            steps += fresh.integrate(chain, times, record).stats.steps;
+    for (int m : {1, 10, 40}) {
+      for (bool sens : {false, true}) {
+        const int samples = times.size() == 2 ? 2000 : (m >= 40 ? 50 : 500);
+        ks::SolverOptions o;  // defaults: BDF, rtol 1e-8, exact Jacobian, staggered
+        Chain chain(m, sens);
+        long steps_reuse = 0, steps_fresh = 0;
+        auto time_it = [&](bool reuse) {
+          ks::Integrator shared(o);
+          long steps = 0;
+          const auto start = std::chrono::steady_clock::now();
+          for (int s = 0; s < samples; ++s) {
+            chain.k = 4 + 0.001 * s;
+            if (reuse) {
+              steps += shared.integrate(chain, times, record).stats.steps;
+            } else {
+              ks::Integrator fresh(o);
+              steps += fresh.integrate(chain, times, record).stats.steps;
+            }
           }
+          (reuse ? steps_reuse : steps_fresh) = steps;
+          return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
+                     .count() /
+                 samples;
+        };
+        double reuse = 1e300, fresh = 1e300;
+        for (int round = 0; round < 5; ++round) {
+          reuse = std::min(reuse, time_it(true));
+          fresh = std::min(fresh, time_it(false));
         }
-        (reuse ? steps_reuse : steps_fresh) = steps;
-        return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
-                   .count() / samples;
-      };
-      double reuse = 1e300, fresh = 1e300;
-      for (int round = 0; round < 5; ++round) {
-        reuse = std::min(reuse, time_it(true));
-        fresh = std::min(fresh, time_it(false));
+        if (steps_reuse != steps_fresh)
+          std::printf("steps differ: %ld vs %ld\n", steps_reuse, steps_fresh);
+        std::printf("%-6d %-5s %-6g %-8d %12.1f %12.1f %8.3f\n", 2 * m, sens ? "yes" : "no",
+                    times.back(), samples, reuse, fresh, fresh / reuse);
       }
-      if (steps_reuse != steps_fresh) std::printf("steps differ: %ld vs %ld\n", steps_reuse, steps_fresh);
-      std::printf("%-6d %-5s %-6g %-8d %12.1f %12.1f %8.3f\n", 2 * m, sens ? "yes" : "no",
-                  times.back(), samples, reuse, fresh, fresh / reuse);
     }
-  }
   return sink == 12345 ? 1 : 0;
 }
