@@ -1,7 +1,5 @@
 #include "solve/integrator.hpp"
 
-#include "solve/sundials_handles.hpp"
-
 #include <cvodes/cvodes.h>
 #include <cvodes/cvodes_ls.h>
 #include <cvodes/cvodes_proj.h>
@@ -17,6 +15,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "solve/sundials_handles.hpp"
 
 namespace kanesens::solve {
 
@@ -62,8 +62,9 @@ struct CallbackData {
         ++recoverable;
         try {
           char buf[160];
-          std::snprintf(buf, sizeof buf, "%s returned a non-finite value (%g at index %ld) at t = %.10g",
-                        where, v[i], i, t);
+          std::snprintf(buf, sizeof buf,
+                        "%s returned a non-finite value (%g at index %ld) at t = %.10g", where,
+                        v[i], i, t);
           callback_message = buf;
         } catch (...) {
         }
@@ -74,7 +75,9 @@ struct CallbackData {
   }
 };
 
-CallbackData& data_of(void* user_data) { return *static_cast<CallbackData*>(user_data); }
+CallbackData& data_of(void* user_data) {
+  return *static_cast<CallbackData*>(user_data);
+}
 
 // --- nothrow trampolines: exceptions never cross into C (STYLE.md item 7) ---
 
@@ -91,8 +94,8 @@ int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) no
   }
 }
 
-int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user_data,
-                   N_Vector, N_Vector, N_Vector) noexcept {
+int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user_data, N_Vector,
+                   N_Vector, N_Vector) noexcept {
   CallbackData& cb = data_of(user_data);
   try {
     // SUNDenseMatrix storage is column-major and contiguous (leading dimension n).
@@ -130,7 +133,8 @@ int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps
                                          err != nullptr ? N_VGetArrayPointer(err) : nullptr);
     if (flag != 0) {
       try {
-        cb.callback_message = "project returned " + std::to_string(flag) + " at t = " + format_time(t);
+        cb.callback_message =
+            "project returned " + std::to_string(flag) + " at t = " + format_time(t);
       } catch (...) {
       }
       if (flag > 0) ++cb.recoverable;
@@ -157,14 +161,19 @@ void error_handler(int error_code, const char* /*module*/, const char* function,
 
 int sensitivity_method_flag(SensitivityMethod m) {
   switch (m) {
-    case SensitivityMethod::simultaneous: return CV_SIMULTANEOUS;
-    case SensitivityMethod::staggered: return CV_STAGGERED;
-    case SensitivityMethod::staggered1: return CV_STAGGERED1;
+    case SensitivityMethod::simultaneous:
+      return CV_SIMULTANEOUS;
+    case SensitivityMethod::staggered:
+      return CV_STAGGERED;
+    case SensitivityMethod::staggered1:
+      return CV_STAGGERED1;
   }
   return CV_STAGGERED;
 }
 
-[[noreturn]] void invalid(const std::string& what) { throw std::invalid_argument(what); }
+[[noreturn]] void invalid(const std::string& what) {
+  throw std::invalid_argument(what);
+}
 
 }  // namespace
 
@@ -221,17 +230,20 @@ struct Integrator::Impl {
 
 void Integrator::Impl::check_problem(OdeProblem& problem, std::span<const double> times) const {
   const int n_states = problem.size();
-  if (n_states <= 0) invalid("integrate: problem size must be > 0, got " + std::to_string(n_states));
+  if (n_states <= 0)
+    invalid("integrate: problem size must be > 0, got " + std::to_string(n_states));
   options.validate(n_states);
   const int n_sens = problem.num_sensitivities();
   if (n_sens < 0) invalid("integrate: num_sensitivities() < 0");
 
   if (times.empty()) invalid("integrate: output_times is empty (need at least t0)");
   for (std::size_t k = 0; k < times.size(); ++k) {
-    if (!std::isfinite(times[k])) invalid("integrate: output_times[" + std::to_string(k) + "] is not finite");
+    if (!std::isfinite(times[k]))
+      invalid("integrate: output_times[" + std::to_string(k) + "] is not finite");
     if (k > 0 && !(times[k] > times[k - 1])) {
       invalid("integrate: output_times must be strictly increasing; output_times[" +
-              std::to_string(k) + "] = " + format_time(times[k]) + " <= " + format_time(times[k - 1]));
+              std::to_string(k) + "] = " + format_time(times[k]) +
+              " <= " + format_time(times[k - 1]));
     }
   }
 
@@ -244,7 +256,8 @@ void Integrator::Impl::check_problem(OdeProblem& problem, std::span<const double
   }
   if (n_sens == 0) return;
   if (options.sens_rhs == SensitivityRhs::exact && !problem.has_sensitivity_rhs()) {
-    invalid("solver.sensitivity.rhs = exact, but the problem has no exact sensitivity RHS (use dq)");
+    invalid(
+        "solver.sensitivity.rhs = exact, but the problem has no exact sensitivity RHS (use dq)");
   }
   const std::vector<double> scales = problem.sensitivity_scales();
   if (!scales.empty() && static_cast<int>(scales.size()) != n_sens) {
@@ -252,7 +265,8 @@ void Integrator::Impl::check_problem(OdeProblem& problem, std::span<const double
             " entries, expected num_sensitivities() = " + std::to_string(n_sens));
   }
   for (double s : scales) {
-    if (!(std::isfinite(s) && s != 0)) invalid("integrate: sensitivity scales must be finite and != 0");
+    if (!(std::isfinite(s) && s != 0))
+      invalid("integrate: sensitivity scales must be finite and != 0");
   }
   if (options.sens_rhs == SensitivityRhs::dq) {
     if (problem.dq_parameters() == nullptr) {
@@ -287,7 +301,8 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, dou
     check_flag(CVodeSStolerances(mem.get(), o.rtol, o.atol), "CVodeSStolerances");
   } else {
     atol_vector = make_serial_vector(n_states, ctx.get());
-    std::copy(o.atol_per_state.begin(), o.atol_per_state.end(), N_VGetArrayPointer(atol_vector.get()));
+    std::copy(o.atol_per_state.begin(), o.atol_per_state.end(),
+              N_VGetArrayPointer(atol_vector.get()));
     check_flag(CVodeSVtolerances(mem.get(), o.rtol, atol_vector.get()), "CVodeSVtolerances");
   }
 
@@ -307,7 +322,8 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, dou
 
   // Optional inputs. max_steps is set before every output (a total budget, see SolverOptions).
   if (o.max_order > 0) check_flag(CVodeSetMaxOrd(mem.get(), o.max_order), "CVodeSetMaxOrd");
-  if (o.initial_step > 0) check_flag(CVodeSetInitStep(mem.get(), o.initial_step), "CVodeSetInitStep");
+  if (o.initial_step > 0)
+    check_flag(CVodeSetInitStep(mem.get(), o.initial_step), "CVodeSetInitStep");
   if (o.max_step > 0) check_flag(CVodeSetMaxStep(mem.get(), o.max_step), "CVodeSetMaxStep");
 
   // Projection (CVODES ≥ 5.3, BDF only). Its interplay with forward sensitivities is not
@@ -378,8 +394,9 @@ void Integrator::Impl::reinit(OdeProblem& problem, double t0, double t_end) {
   dq_p_saved.clear();
   if (ns > 0) {
     for (int i = 0; i < ns; ++i) problem.initial_sensitivity(i, yS.data(i));
-    check_flag(CVodeSensReInit(mem.get(), sensitivity_method_flag(options.sensitivity_method), yS.get()),
-               "CVodeSensReInit");
+    check_flag(
+        CVodeSensReInit(mem.get(), sensitivity_method_flag(options.sensitivity_method), yS.get()),
+        "CVodeSensReInit");
     pbar = problem.sensitivity_scales();
     double* p = nullptr;
     plist.clear();
@@ -405,7 +422,8 @@ SolverStats Integrator::Impl::collect_stats() const {
   check_flag(CVodeGetNumSteps(m, &s.steps), "CVodeGetNumSteps");
   check_flag(CVodeGetNumRhsEvals(m, &s.rhs_evals), "CVodeGetNumRhsEvals");
   check_flag(CVodeGetNumNonlinSolvIters(m, &s.nonlin_iters), "CVodeGetNumNonlinSolvIters");
-  check_flag(CVodeGetNumNonlinSolvConvFails(m, &s.nonlin_conv_fails), "CVodeGetNumNonlinSolvConvFails");
+  check_flag(CVodeGetNumNonlinSolvConvFails(m, &s.nonlin_conv_fails),
+             "CVodeGetNumNonlinSolvConvFails");
   check_flag(CVodeGetNumErrTestFails(m, &s.error_test_fails), "CVodeGetNumErrTestFails");
   if (options.iteration == Iteration::newton) {
     check_ls_flag(CVodeGetNumJacEvals(m, &s.jac_evals), "CVodeGetNumJacEvals");
@@ -413,8 +431,8 @@ SolverStats Integrator::Impl::collect_stats() const {
   }
   if (ns > 0) {
     long setups = 0;
-    check_flag(CVodeGetSensStats(m, &s.sens_rhs_evals, &s.rhs_evals_for_sens, &s.sens_error_test_fails,
-                                 &setups),
+    check_flag(CVodeGetSensStats(m, &s.sens_rhs_evals, &s.rhs_evals_for_sens,
+                                 &s.sens_error_test_fails, &setups),
                "CVodeGetSensStats");
     if (options.sensitivity_method != SensitivityMethod::simultaneous) {
       check_flag(CVodeGetSensNumNonlinSolvIters(m, &s.sens_nonlin_iters),
@@ -433,7 +451,9 @@ Integrator::~Integrator() = default;
 Integrator::Integrator(Integrator&&) noexcept = default;
 Integrator& Integrator::operator=(Integrator&&) noexcept = default;
 
-const SolverOptions& Integrator::options() const { return impl_->options; }
+const SolverOptions& Integrator::options() const {
+  return impl_->options;
+}
 
 IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const double> times,
                                         const RecordFn& record) {
@@ -476,9 +496,9 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
       if (t_reached < tout) {  // another step would be needed
         result.status = CV_TOO_MUCH_WORK;
         result.t_fail = t_reached;
-        result.message = "CV_TOO_MUCH_WORK at t = " + format_time(t_reached) + ": max_steps = " +
-                         std::to_string(im.options.max_steps) + " steps taken before reaching t = " +
-                         format_time(tout);
+        result.message = "CV_TOO_MUCH_WORK at t = " + format_time(t_reached) +
+                         ": max_steps = " + std::to_string(im.options.max_steps) +
+                         " steps taken before reaching t = " + format_time(tout);
         break;
       }
     }

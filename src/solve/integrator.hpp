@@ -21,18 +21,19 @@
 // evaluates the RHS past the last output time (CVodeSetStopTime).
 //
 // Errors: a solver failure (CVODES flag < 0, including a callback that threw) returns a result
-// with status < 0; exceptions thrown by `record` propagate. Invalid options, a problem that
-// lacks what the options ask for (exact Jacobian, exact sensitivity RHS, DQ parameters) or bad
-// output times throw std::invalid_argument; a failing SUNDIALS setup call throws
+// with status < 0. Exceptions thrown by initial_state, initial_sensitivity, sensitivity_scales,
+// dq_parameter_list (called before integration) and by `record` propagate to the caller. Invalid
+// options, a problem that lacks what the options ask for (exact Jacobian, exact sensitivity RHS, DQ
+// parameters) or bad output times throw std::invalid_argument; a failing SUNDIALS setup call throws
 // std::runtime_error. Not thread-safe: one Integrator per thread.
 #pragma once
-#include "solve/ode_problem.hpp"
-#include "solve/solver_options.hpp"
-
 #include <functional>
 #include <memory>
 #include <span>
 #include <string>
+
+#include "solve/ode_problem.hpp"
+#include "solve/solver_options.hpp"
 
 namespace kanesens::solve {
 
@@ -62,14 +63,13 @@ struct IntegrationResult {
   // message, e.g. "CV_RHSFUNC_FAIL at t = 0.5: CVode: At t = 0.5, the right-hand side routine
   // failed in an unrecoverable manner.; rhs threw: negative length in spring 'k1'".
   std::string message;
-  double t_fail = 0;  // time reached when the integration failed (NaN on success)
+  double t_fail = 0;         // time reached when the integration failed (NaN on success)
   int outputs_recorded = 0;  // number of record() calls made
   SolverStats stats;
   bool ok() const { return status == 1; }
 };
 
-using RecordFn =
-    std::function<void(int k, double t, const double* y, const double* const* s)>;
+using RecordFn = std::function<void(int k, double t, const double* y, const double* const* s)>;
 
 class Integrator {
  public:

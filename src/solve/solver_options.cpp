@@ -14,7 +14,9 @@ template <class T>
   os << "solver." << field << ": " << expected << ", got " << got;
   throw std::invalid_argument(os.str());
 }
-bool positive_finite(double x) { return std::isfinite(x) && x > 0; }
+bool positive_finite(double x) {
+  return std::isfinite(x) && x > 0;
+}
 }  // namespace
 
 void SolverOptions::validate(int n) const {
@@ -45,22 +47,32 @@ void SolverOptions::validate(int n) const {
   if (sens_atol && !positive_finite(*sens_atol)) {
     invalid("sensitivity.atol", "must be a finite number > 0", *sens_atol);
   }
-  if (projection_frequency < 0) invalid("projection_frequency", "must be >= 0", projection_frequency);
+  if (projection_frequency < 0)
+    invalid("projection_frequency", "must be >= 0", projection_frequency);
 }
 
-std::string_view to_string(Method m) { return m == Method::bdf ? "bdf" : "adams"; }
+std::string_view to_string(Method m) {
+  return m == Method::bdf ? "bdf" : "adams";
+}
 std::string_view to_string(Iteration it) {
   return it == Iteration::newton ? "newton" : "functional";
 }
-std::string_view to_string(JacobianKind j) { return j == JacobianKind::exact ? "exact" : "dq"; }
+std::string_view to_string(JacobianKind j) {
+  return j == JacobianKind::exact ? "exact" : "dq";
+}
 std::string_view to_string(SensitivityMethod s) {
   switch (s) {
-    case SensitivityMethod::simultaneous: return "simultaneous";
-    case SensitivityMethod::staggered: return "staggered";
-    case SensitivityMethod::staggered1: return "staggered1";
+    case SensitivityMethod::simultaneous:
+      return "simultaneous";
+    case SensitivityMethod::staggered:
+      return "staggered";
+    case SensitivityMethod::staggered1:
+      return "staggered1";
   }
   return "?";
 }
-std::string_view to_string(SensitivityRhs s) { return s == SensitivityRhs::exact ? "exact" : "dq"; }
+std::string_view to_string(SensitivityRhs s) {
+  return s == SensitivityRhs::exact ? "exact" : "dq";
+}
 
 }  // namespace kanesens::solve

@@ -7,11 +7,11 @@
 
 namespace kanesens::solve {
 
-enum class Method { bdf, adams };              // CV_BDF (stiff) | CV_ADAMS (non-stiff)
-enum class Iteration { newton, functional };   // Newton + dense LU | fixed point (no Jacobian)
-enum class JacobianKind { exact, dq };         // OdeProblem::jacobian | CVODES difference quotient
+enum class Method { bdf, adams };             // CV_BDF (stiff) | CV_ADAMS (non-stiff)
+enum class Iteration { newton, functional };  // Newton + dense LU | fixed point (no Jacobian)
+enum class JacobianKind { exact, dq };        // OdeProblem::jacobian | CVODES difference quotient
 enum class SensitivityMethod { simultaneous, staggered, staggered1 };  // CV_SIMULTANEOUS, ...
-enum class SensitivityRhs { exact, dq };       // OdeProblem::sensitivity_rhs | CVODES internal DQ
+enum class SensitivityRhs { exact, dq };  // OdeProblem::sensitivity_rhs | CVODES internal DQ
 
 struct SolverOptions {
   Method method = Method::bdf;

@@ -20,8 +20,12 @@ std::string take_c_string(char* s) {
 }
 }  // namespace
 
-std::string cvode_flag_name(int flag) { return take_c_string(CVodeGetReturnFlagName(flag)); }
-std::string cvode_ls_flag_name(int flag) { return take_c_string(CVodeGetLinReturnFlagName(flag)); }
+std::string cvode_flag_name(int flag) {
+  return take_c_string(CVodeGetReturnFlagName(flag));
+}
+std::string cvode_ls_flag_name(int flag) {
+  return take_c_string(CVodeGetLinReturnFlagName(flag));
+}
 
 void check_flag(int flag, const char* call) {
   if (flag < 0) {
