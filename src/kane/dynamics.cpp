@@ -151,7 +151,11 @@ bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* y
   const S* u = y + m.nq;
   evaluate_mass_matrix_and_forcing(m, ws, t, q, u);
   compute_kinematic_derivatives(m, ws, q, u);
-  const bool ok = solve_accelerations(m, ws);
+  bool ok = solve_accelerations(m, ws);
+  if (ok && m.nconstraint_rows > 0) {
+    compute_constraints(m, ws, q, u);
+    solve_constrained_accelerations(m, ws);
+  }
   for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
   for (int i = 0; i < m.nu; ++i) ydot[m.nq + i] = ws.udot[i];
   return ok;

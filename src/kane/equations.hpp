@@ -37,6 +37,14 @@ bool solve_accelerations(const Model& m, Workspace<S>& ws);
 template <class S>
 void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q, const S* u);
 
+// Constraint rows at (q, u): A, a0-velocity residual, position residual and bias −(Ȧu + ȧ0)
+// (kane/constraints.cpp). Needs position, velocity and q̇ (compute_kinematic_derivatives).
+template <class S>
+void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u);
+// After solve_accelerations (ws.udot = M⁻¹ f): the multipliers λ and u̇ = M⁻¹(f + Aᵀλ).
+template <class S>
+bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws);
+
 // The whole right-hand side: y = [q; u] (nq + nu) → ydot = [q̇; u̇]. Returns false if M is
 // singular. Parameters must have been set.
 template <class S>

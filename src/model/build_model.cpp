@@ -68,6 +68,7 @@ class Builder {
     build_joint_expressions();
     build_forces();
     for (int i = 0; i < 3; ++i) m_.gravity[i] = add(spec_.gravity[i], false);
+    build_constraints();
     check_nominal();
     return std::move(m_);
   }
@@ -304,6 +305,9 @@ class Builder {
       for (int k = 0; k < j.nu; ++k) speeds.push_back(j.u_offset + k);
       m_.ancestor_speeds[j.child] = speeds;
     }
+    m_.moves.assign(nb, std::vector<unsigned char>(m_.nu, 0));
+    for (int b = 0; b < nb; ++b)
+      for (int k : m_.ancestor_speeds[b]) m_.moves[b][k] = 1;
   }
 
   void build_state_names() {
@@ -324,6 +328,7 @@ class Builder {
     state_names_ = param_names_;
     state_names_.add("t", {expr::VarKind::time, 0});
     for (int i = 0; i < m_.nq; ++i) state_names_.add(m_.coordinate_names[i], {expr::VarKind::coordinate, i});
+    position_names_ = state_names_;  // constraints: parameters, t and coordinates (no speeds)
     for (int i = 0; i < m_.nu; ++i) state_names_.add(m_.speed_names[i], {expr::VarKind::speed, i});
   }
 
@@ -411,6 +416,127 @@ class Builder {
     }
   }
 
+  // A scene whose rotations are all about z and translations all in xy moves in the xy plane:
+  // a coincident constraint there has 2 rows (the z row would be identically zero).
+  bool planar_xy() const {
+    const std::vector<double> p = m_.nominal_parameters();
+    Workspace<double> ws(m_);
+    set_parameters(m_, ws, p.data());
+    for (std::size_t j = 0; j < m_.joints.size(); ++j) {
+      const Joint& J = m_.joints[j];
+      const Eigen::Vector3d a = ws.joint_axis[j];
+      const bool along_z = std::abs(std::abs(a.z()) - 1) < 1e-12;
+      const bool in_xy = std::abs(a.z()) < 1e-12;
+      switch (J.type) {
+        case JointType::revolute: if (!along_z) return false; break;
+        case JointType::prismatic: if (!in_xy) return false; break;
+        case JointType::planar: if (!along_z) return false; break;
+        case JointType::weld: break;
+        default: return false;
+      }
+    }
+    return true;
+  }
+
+  int joint_ref(const std::string& name, const SourceLocation& w, const std::string& key) {
+    std::vector<std::string> names;
+    for (std::size_t j = 0; j < m_.joints.size(); ++j) {
+      if (m_.joints[j].name == name) return static_cast<int>(j);
+      names.push_back(m_.joints[j].name);
+    }
+    fail(w, key, "'" + name + "' is not a joint" + did_you_mean(name, names) + "; joints are: " + join_names(names));
+  }
+
+  void build_constraints() {
+    std::set<std::string> seen;
+    const bool planar = planar_xy();
+    int row = 0;
+    for (std::size_t ci = 0; ci < spec_.constraints.size(); ++ci) {
+      const ConstraintSpec& cs = spec_.constraints[ci];
+      Constraint c;
+      c.name = cs.name.empty() ? cs.type + std::to_string(ci) : cs.name;
+      if (!seen.insert(c.name).second) fail(cs.where, cs.key + ".name", "duplicate constraint name '" + c.name + "'");
+      std::vector<std::string> rows;
+      if (cs.type == "coincident" || cs.type == "distance") {
+        c.kind = cs.type == "coincident" ? Constraint::Kind::coincident : Constraint::Kind::distance;
+        c.body_a = body_ref(cs.body_a, cs.where, cs.key + ".body_a");
+        c.body_b = body_ref(cs.body_b, cs.where, cs.key + ".body_b");
+        if (c.body_a == c.body_b) fail(cs.where, cs.key + ".body_b", "a constraint needs two different bodies");
+        c.point_a = add3(cs.point_a, false);
+        c.point_b = add3(cs.point_b, false);
+        if (c.kind == Constraint::Kind::distance) {
+          c.length = add(cs.length, false);
+          rows = {c.name};
+        } else {
+          std::vector<std::string> comps = cs.components;
+          if (comps.empty()) comps = planar ? std::vector<std::string>{"x", "y"} : std::vector<std::string>{"x", "y", "z"};
+          for (std::size_t i = 0; i < comps.size(); ++i) {
+            c.components[i] = comps[i][0] - 'x';
+            rows.push_back(c.name + "." + comps[i]);
+          }
+        }
+        c.holonomic.assign(rows.size(), 1);
+      } else if (cs.type == "coupler") {
+        c.kind = Constraint::Kind::coupler;
+        const int ja = joint_ref(cs.joint_a, cs.where, cs.key + ".joint_a");
+        const int jb = joint_ref(cs.joint_b, cs.where, cs.key + ".joint_b");
+        for (int j : {ja, jb})
+          if (m_.joints[j].nu != 1 || m_.joints[j].nq != 1)
+            fail(cs.where, cs.key, "a coupler links 1-DOF joints (revolute, prismatic); '" + m_.joints[j].name + "' is " + joint_type_name(m_.joints[j].type));
+        c.speed_a = m_.joints[ja].u_offset;
+        c.speed_b = m_.joints[jb].u_offset;
+        c.coord_a = m_.joints[ja].q_offset;
+        c.coord_b = m_.joints[jb].q_offset;
+        c.ratio = add(cs.ratio, false);
+        c.offset = add(cs.offset, false);
+        rows = {c.name};
+        c.holonomic = {1};
+      } else if (cs.type == "general") {
+        c.kind = Constraint::Kind::general;
+        if (cs.position) {
+          c.has_position = true;
+          c.position = expr::compile(cs.position->text, position_names_, cs.position->where, cs.position->key);
+          c.holonomic = {1};
+          // The velocity form a_k = ∂g/∂q_k needs u = q̇ for every speed.
+          c.position_coordinate.assign(m_.nu, -1);
+          for (const Joint& J : m_.joints) {
+            if (J.quaternion_offset >= 0) continue;
+            for (int k = 0; k < J.nu; ++k) c.position_coordinate[J.u_offset + k] = J.q_offset + k;
+          }
+        } else {
+          for (const auto& [speed, text] : cs.a) {
+            int k = -1;
+            for (int i = 0; i < m_.nu; ++i)
+              if (m_.speed_names[i] == speed) k = i;
+            if (k < 0)
+              fail(text.where, text.key, "'" + speed + "' is not a speed" + did_you_mean(speed, m_.speed_names) +
+                                             "; speeds are: " + join_names(m_.speed_names));
+            c.a.emplace_back(k, expr::compile(text.text, position_names_, text.where, text.key));
+          }
+          c.a0 = cs.a0 ? expr::compile(cs.a0->text, position_names_, cs.a0->where, cs.a0->key) : expr::Expression(0.0);
+          c.holonomic = {0};
+        }
+        rows = {c.name};
+      } else {  // rolling
+        c.kind = Constraint::Kind::rolling;
+        c.body = body_ref(cs.body, cs.where, cs.key + ".body");
+        if (c.body < 0) fail(cs.where, cs.key + ".body", "the rolling body cannot be ground");
+        c.radius = add(cs.radius, false);
+        c.height = add(cs.height, false);
+        c.axis = add3(cs.axis, false);
+        c.normal = add3(cs.normal, false);
+        rows = {c.name + ".x", c.name + ".y", c.name + ".z"};
+        c.holonomic = {0, 0, 0};  // contact-point velocity; see kane/constraints.cpp
+      }
+      c.row_offset = row;
+      c.nrows = static_cast<int>(rows.size());
+      row += c.nrows;
+      m_.constraint_row_names.insert(m_.constraint_row_names.end(), rows.begin(), rows.end());
+      m_.constraints.push_back(std::move(c));
+    }
+    m_.nconstraint_rows = row;
+  }
+
   void check_nominal() {
     const std::vector<double> p = m_.nominal_parameters();
     const std::string why = check_parameters(m_, p.data());
@@ -420,17 +546,12 @@ class Builder {
   const SceneSpec& spec_;
   const std::map<std::string, double>& overrides_;
   Model m_;
-  expr::NameTable param_names_, state_names_;
+  expr::NameTable param_names_, state_names_, position_names_;
 };
 
 }  // namespace
 
 Model build_model(const SceneSpec& spec, const std::map<std::string, double>& overrides) {
-  if (!spec.constraints.empty()) {
-    const ConstraintSpec& c = spec.constraints.front();
-    throw InputError(c.where, c.key,
-                     "constraints are not supported by this kanesens build yet (type '" + c.type + "')");
-  }
   if (spec.bodies.empty()) throw InputError({spec.file, 0, 0}, "scene.bodies", "a scene needs at least one body");
   return Builder(spec, overrides).build();
 }

@@ -69,6 +69,37 @@ struct Force {
   bool body_frame = false;
 };
 
+// A constraint contributes `nrows` rows of A u + a0 = 0 (A: m×nu), starting at row_offset.
+// Multiplier convention (M u̇ = f + Aᵀλ): coincident λ = force on body_a at point_a from
+// body_b, world components; distance λ = force on body_b along e_ab (a→b), positive pushing
+// the points apart; coupler λ = generalized force on joint_a's speed; rolling λ = contact force
+// on the wheel at the contact point, world components; general λ = generalized force Aᵀλ.
+struct Constraint {
+  enum class Kind { coincident, distance, coupler, general, rolling };
+  std::string name;
+  Kind kind = Kind::coincident;
+  int row_offset = 0, nrows = 0;
+  std::vector<unsigned char> holonomic;  // per row: has a position-level residual
+  // coincident, distance
+  int body_a = -1, body_b = -1;
+  Slot3 point_a{}, point_b{};
+  std::array<int, 3> components{0, 1, 2};  // coincident: kept world components (first nrows)
+  Slot length = -1;
+  // coupler (1-DOF joints): speeds and coordinates
+  int speed_a = -1, speed_b = -1, coord_a = -1, coord_b = -1;
+  Slot ratio = -1, offset = -1;
+  // general: coefficients of speeds (or a position function), expressions of q, t, parameters
+  std::vector<std::pair<int, expr::Expression>> a;  // (speed index, a_k)
+  expr::Expression a0;
+  bool has_position = false;
+  expr::Expression position;
+  std::vector<int> position_coordinate;  // speed k → coordinate index (position form)
+  // rolling
+  int body = -1;
+  Slot radius = -1, height = -1;
+  Slot3 axis{}, normal{};
+};
+
 struct Parameter {
   std::string name;
   expr::Expression value;  // constant, or derived from earlier parameters
@@ -85,6 +116,10 @@ struct Model {
   std::vector<int> joint_order;     // topological: parents before children
   std::vector<std::vector<int>> ancestor_speeds;  // per body: speeds moving it, root first
   std::vector<Force> forces;
+  std::vector<Constraint> constraints;
+  int nconstraint_rows = 0;                      // m
+  std::vector<std::string> constraint_row_names;  // m, e.g. "tip.x", "rod.length"
+  std::vector<std::vector<unsigned char>> moves;  // [body][speed]: speed moves body
   Slot3 gravity{};
   int nq = 0, nu = 0;
   std::vector<std::string> coordinate_names, speed_names, state_names;

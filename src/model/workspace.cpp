@@ -30,7 +30,20 @@ Workspace<S>::Workspace(const Model& m)
       forcing(m.nu),
       cholesky(m.nu, m.nu),
       udot(m.nu),
-      qdot(m.nq) {
+      qdot(m.nq),
+      constraint_matrix(m.nconstraint_rows, m.nu),
+      constraint_bias(m.nconstraint_rows),
+      velocity_residual(m.nconstraint_rows),
+      position_residual(m.nconstraint_rows),
+      multipliers(m.nconstraint_rows),
+      minv_at(m.nu, m.nconstraint_rows),
+      schur(m.nconstraint_rows, m.nconstraint_rows),
+      schur_factor(m.nconstraint_rows, m.nconstraint_rows),
+      schur_rhs(m.nconstraint_rows),
+      nullspace(m.nconstraint_rows, m.nconstraint_rows),
+      scratch_m(m.nconstraint_rows),
+      scratch_nu(m.nu),
+      schur_pivots(m.nconstraint_rows) {
   for (Slot s : m.parameter_slots)
     if (m.expressions[s].is_constant()) values[s] = S(m.expressions[s].constant_value());
 }

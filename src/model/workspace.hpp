@@ -44,6 +44,23 @@ struct Workspace {
   VecX<S> udot;                    // nu
   VecX<S> qdot;                    // nq
   S time = S(0);
+
+  // Constraints (m = model.nconstraint_rows rows of A u + a0 = 0).
+  MatX<S> constraint_matrix;       // m×nu: A
+  VecX<S> constraint_bias;         // m: −(Ȧu + ȧ0), minus the Baumgarte terms when enabled
+  VecX<S> velocity_residual;       // m: A u + a0
+  VecX<S> position_residual;       // m: g(q, t) of holonomic rows, 0 for the others
+  VecX<S> multipliers;             // m: λ, with M u̇ = f + Aᵀλ
+  MatX<S> minv_at;                 // nu×m: M⁻¹ Aᵀ
+  MatX<S> schur;                   // m×m: A M⁻¹ Aᵀ
+  MatX<S> schur_factor;            // m×m: its pivoted Cholesky factor (lower, permuted)
+  VecX<S> schur_rhs;               // m
+  MatX<S> nullspace;               // m×m scratch for redundant constraints
+  VecX<S> scratch_m, scratch_nu;   // m, nu
+  std::vector<int> schur_pivots;   // m
+  int constraint_rank = 0;         // rank of A M⁻¹ Aᵀ at the last solve
+  // Baumgarte stabilisation: bias −= 2α (A u + a0) + β² g (set by the caller; 0 = off).
+  double baumgarte_alpha = 0, baumgarte_beta = 0;
 };
 
 // Evaluates parameter-only expressions and the derived per-body/per-joint constants.

@@ -142,6 +142,70 @@ ForceSpec parse_force(const YAML::Node& n, const std::string& file, const std::s
   return f;
 }
 
+ConstraintSpec parse_constraint(const YAML::Node& n, const std::string& file, const std::string& key) {
+  require_map(n, file, key);
+  ConstraintSpec c;
+  c.where = location(n, file);
+  c.key = key;
+  c.type = read_string(required(n, "type", file, key), file, key + ".type");
+  c.name = n["name"] ? read_string(n["name"], file, key + ".name") : "";
+  auto vec_or_zero = [&](const char* k) { return n[k] ? read_vec3(n[k], file, key + "." + k) : zero_vec3(); };
+  if (c.type == "coincident" || c.type == "distance") {
+    if (c.type == "coincident") check_keys(n, file, key, {"type", "name", "body_a", "point_a", "body_b", "point_b", "components"});
+    else check_keys(n, file, key, {"type", "name", "body_a", "point_a", "body_b", "point_b", "length"});
+    c.body_a = read_string(required(n, "body_a", file, key), file, key + ".body_a");
+    c.body_b = read_string(required(n, "body_b", file, key), file, key + ".body_b");
+    c.point_a = vec_or_zero("point_a");
+    c.point_b = vec_or_zero("point_b");
+    if (c.type == "distance") c.length = read_expr(required(n, "length", file, key), file, key + ".length");
+    if (const YAML::Node comp = n["components"]) {
+      require_sequence(comp, file, key + ".components");
+      for (std::size_t i = 0; i < comp.size(); ++i) {
+        const std::string x = read_string(comp[i], file, key + ".components[" + std::to_string(i) + "]");
+        if (x != "x" && x != "y" && x != "z") fail(comp[i], file, key + ".components", "expected x, y or z, found '" + x + "'");
+        c.components.push_back(x);
+      }
+    }
+  } else if (c.type == "coupler") {
+    check_keys(n, file, key, {"type", "name", "joint_a", "joint_b", "ratio", "offset"});
+    c.joint_a = read_string(required(n, "joint_a", file, key), file, key + ".joint_a");
+    c.joint_b = read_string(required(n, "joint_b", file, key), file, key + ".joint_b");
+    c.ratio.text = "1";
+    if (n["ratio"]) c.ratio = read_expr(n["ratio"], file, key + ".ratio");
+    if (n["offset"]) c.offset = read_expr(n["offset"], file, key + ".offset");
+  } else if (c.type == "general") {
+    check_keys(n, file, key, {"type", "name", "a", "a0", "position"});
+    if (const YAML::Node a = n["a"]) {
+      require_map(a, file, key + ".a");
+      for (const auto& kv : a) {
+        const std::string speed = kv.first.as<std::string>();
+        c.a.emplace_back(speed, read_expr(kv.second, file, key + ".a." + speed));
+      }
+    }
+    if (n["a0"]) c.a0 = read_expr(n["a0"], file, key + ".a0");
+    if (n["position"]) c.position = read_expr(n["position"], file, key + ".position");
+    if (c.position && (!c.a.empty() || c.a0))
+      fail(n, file, key, "give either 'position' (a holonomic g(q, t) = 0; its velocity form is derived) or 'a' and 'a0', not both");
+    if (!c.position && c.a.empty()) fail(n, file, key, "a general constraint needs 'a' (coefficients per speed) or 'position'");
+  } else if (c.type == "rolling") {
+    check_keys(n, file, key, {"type", "name", "body", "radius", "axis", "normal", "height"});
+    c.body = read_string(required(n, "body", file, key), file, key + ".body");
+    c.radius = read_expr(required(n, "radius", file, key), file, key + ".radius");
+    c.axis = read_vec3(required(n, "axis", file, key), file, key + ".axis");
+    if (n["normal"]) {
+      c.normal = read_vec3(n["normal"], file, key + ".normal");
+    } else {
+      c.normal = zero_vec3();
+      c.normal[2].text = "1";
+    }
+    if (n["height"]) c.height = read_expr(n["height"], file, key + ".height");
+  } else {
+    fail(n["type"], file, key + ".type",
+         "unknown constraint type '" + c.type + "'; types are: coincident, distance, coupler, rolling, general");
+  }
+  return c;
+}
+
 }  // namespace
 
 SceneSpec parse_scene_node(const YAML::Node& n, const std::string& file, const std::string& text) {
@@ -178,15 +242,7 @@ SceneSpec parse_scene_node(const YAML::Node& n, const std::string& file, const s
   }
   if (const YAML::Node c = n["constraints"]; c && !c.IsNull()) {
     require_sequence(c, file, key + ".constraints");
-    for (std::size_t i = 0; i < c.size(); ++i) {
-      ConstraintSpec cs;
-      cs.where = location(c[i], file);
-      cs.key = idx(key + ".constraints", i);
-      require_map(c[i], file, cs.key);
-      cs.name = c[i]["name"] ? read_string(c[i]["name"], file, cs.key + ".name") : "";
-      cs.type = c[i]["type"] ? read_string(c[i]["type"], file, cs.key + ".type") : "";
-      s.constraints.push_back(cs);
-    }
+    for (std::size_t i = 0; i < c.size(); ++i) s.constraints.push_back(parse_constraint(c[i], file, idx(key + ".constraints", i)));
   }
   return s;
 }

@@ -65,8 +65,24 @@ struct ForceSpec {
   std::string key;
 };
 
+// Constraints Σ_k a_jk u_k + a_j0 = 0 (docs/scene-format.md, "Constraints").
 struct ConstraintSpec {
   std::string name, type;
+  // coincident, distance: two body points (body "ground" allowed)
+  std::string body_a, body_b;
+  Vec3Text point_a, point_b;
+  std::vector<std::string> components;  // coincident: world components kept, e.g. {"x", "y"}
+  ExprText length;                      // distance
+  // coupler: u_a − ratio u_b = 0 (q_a − ratio q_b − offset = 0)
+  std::string joint_a, joint_b;
+  ExprText ratio, offset;
+  // general: Σ a_k u_k + a0 = 0, or from a position function g(q, t) = 0
+  std::vector<std::pair<std::string, ExprText>> a;  // speed name → coefficient
+  std::optional<ExprText> a0, position;
+  // rolling: a wheel (body) of radius r rolling without slip on the plane n·x = height
+  std::string body;
+  ExprText radius, height;
+  Vec3Text axis, normal;
   SourceLocation where;
   std::string key;
 };
