@@ -1,4 +1,4 @@
-// Identities Kane's equations must satisfy, at random states (fixed seeds) of four scenes:
+// Identities Kane's equations must satisfy, at random states (fixed seeds) of five scenes:
 //
 //   1. M (nu×nu) is symmetric positive definite (Cholesky succeeds, eigenvalues > 0).
 //   2. M equals its definition M_kl = Σ_i m_i V_ik·V_il + Ω_ik·I_i Ω_il with the partial
@@ -208,12 +208,50 @@ double free_forced_power(const ks::Model& m, const Kinematics& kin, double t, co
   return P;
 }
 
+// Quaternion joints and a planar joint under moving parents, and a weld.
+constexpr const char* kNested = R"yaml(
+kanesens: 1
+scene:
+  name: nested
+  gravity: [0.5, -9.81, 0.3]
+  parameters: {cc: 0.25}
+  bodies:
+    - {name: carrier, mass: 3.0, inertia: {xx: 0.3, yy: 0.2, zz: 0.25, xy: 0.02, yz: 0.01, xz: -0.03}}
+    - {name: bob, mass: 1.1, inertia: {xx: 0.04, yy: 0.05, zz: 0.06, xy: -0.003, yz: 0.002, xz: 0.004}}
+    - {name: drone, mass: 0.6, inertia: {xx: 0.02, yy: 0.03, zz: 0.035, xy: 0.001, yz: -0.002, xz: 0.0015}}
+    - {name: sled, mass: 0.9, inertia: {shape: box, size: [0.3, 0.2, 0.1]}}
+    - {name: lump, mass: 0.4, inertia: {xx: 0.01, yy: 0.012, zz: 0.014, xy: 0.001}}
+  joints:
+    - {name: turn, type: revolute, parent: ground, child: carrier, axis: [0, 1, 0.3],
+       parent_point: [0.1, 0.2, 0], child_point: [0.3, 0, 0.1], damper: {c: cc}}
+    - {name: ball, type: spherical, parent: carrier, child: bob, parent_point: [0.2, -0.1, 0.3],
+       child_point: [0.05, 0.25, -0.04]}
+    - {name: hover, type: free, parent: bob, child: drone, parent_point: [0, -0.1, 0.05],
+       child_point: [0.02, 0.03, -0.01]}
+    - {name: skate, type: planar, parent: carrier, child: sled, axis: [1, 0, 0],
+       parent_point: [-0.2, 0, 0.1], child_point: [0.05, 0.02, 0]}
+    - {name: glue, type: weld, parent: sled, child: lump, parent_point: [0.1, 0.1, 0],
+       child_point: [0, -0.05, 0.02]}
+  forces:
+    - {type: force, name: thrust, body: drone, point: [0.01, 0, 0.02],
+       vector: ["0.2*hover.qz", "2 + 0.3*cos(3*t)", "-0.1*hover.wy"], frame: body}
+)yaml";
+
+double nested_power(const ks::Model& m, const Kinematics& kin, double t, const double* q, const double* u) {
+  // q: turn.q, ball.qw..qz (1-4), hover.x y z qw qx qy qz (5-11), skate.q1..q3 (12-14);
+  // u: turn.u, ball.wx..wz (1-3), hover.vx..wz (4-9), skate.u1..u3 (10-12).
+  const int drone = body(m, "drone");
+  const Vector3d F_b(0.2 * q[11], 2 + 0.3 * std::cos(3 * t), -0.1 * u[8]);
+  return -0.25 * u[0] * u[0] + (kin.R(drone) * F_b).dot(kin.point_velocity(drone, {0.01, 0, 0.02}));
+}
+
 const std::vector<SceneCase>& scenes() {
   static const std::vector<SceneCase> s = {
       {"planar_chain", kPlanarChain, planar_chain_power, 1.5, 2.0},
       {"arm3d", kArm3d, arm3d_power, 1.0, 2.0},
       {"spherical_top", kSphericalTop, spherical_top_power, 1.0, 4.0},
       {"free_forced", kFreeForced, free_forced_power, 1.0, 2.0},
+      {"nested", kNested, nested_power, 1.0, 2.0},
   };
   return s;
 }
