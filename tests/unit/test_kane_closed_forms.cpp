@@ -6,7 +6,9 @@
 //   (b) a free body: Newton for the mass center (world components), Euler about the mass center
 //       (body components);
 //   (c) a uniform rod pendulum about its end: M = m L²/3, f = −m g (L/2) sin q;
-//   (d) a prismatic spring–mass–damper: M = m, f = −k x − c ẋ.
+//   (d) a prismatic spring–mass–damper: M = m, f = −k x − c ẋ;
+//   (e) the joint conventions of docs/scene-format.md (rotation and mass-center position of
+//       the child for every joint type, written here with Eigen::AngleAxis and quaternions).
 // Energies are checked too: T = ½ uᵀ M u from the closed-form M, V from the mass-center height.
 #include <gtest/gtest.h>
 
@@ -200,6 +202,79 @@ TEST(KaneClosedForms, PrismaticSpringMassDamper) {
   }
   std::printf("spring-mass-damper: worst rel. error %.2e\n", worst);
   EXPECT_LT(worst, kTol);
+}
+
+// ---- (e) joint conventions --------------------------------------------------------------------
+// One body on one joint to ground, parent_point P, child_point c, at a given q: the child's
+// rotation R and its mass center P + d(q) − R c must follow the table of docs/scene-format.md.
+struct ConventionCase {
+  const char* name;
+  const char* joint;  // the joint's YAML fields after parent/child
+  std::vector<double> q;
+};
+
+Matrix3d rot(const Vector3d& axis, double angle) { return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix(); }
+
+TEST(KaneClosedForms, JointKinematicsFollowSceneContract) {
+  const Vector3d P(0.3, -0.2, 0.5), c(0.1, 0.4, -0.25);
+  const std::vector<ConventionCase> cases = {
+      {"revolute", "type: revolute, axis: [1, 2, 2]", {0.7}},
+      {"prismatic", "type: prismatic, axis: [0, 3, 4]", {0.35}},
+      {"cylindrical", "type: cylindrical, axis: [1, 1, 0]", {-0.6, 0.2}},
+      {"universal", "type: universal, axes: [[1, 0, 0], [0, 1, 1]]", {0.5, -0.8}},
+      {"planar_z", "type: planar, axis: [0, 0, 1]", {0.2, -0.3, 1.1}},
+      {"planar_x", "type: planar, axis: [1, 0, 0]", {0.2, -0.3, 1.1}},
+      {"planar_tilted", "type: planar, axis: [1, 1, 1]", {0.2, -0.3, 1.1}},
+      {"spherical", "type: spherical", {0.5, 0.5, -0.5, 0.5}},
+      {"free", "type: free", {0.4, -0.1, 0.2, 0.5, 0.1, 0.7, std::sqrt(1 - 0.25 - 0.01 - 0.49)}},
+  };
+  for (const ConventionCase& cc : cases) {
+    const std::string yaml = std::string(R"yaml(
+kanesens: 1
+scene:
+  name: convention
+  bodies:
+    - {name: b, mass: 1, inertia: {xx: 1, yy: 1, zz: 1}}
+  joints:
+    - {name: j, parent: ground, child: b, parent_point: [0.3, -0.2, 0.5], child_point: [0.1, 0.4, -0.25], )yaml") +
+                             cc.joint + "}\n";
+    const ks::Model m = model_from_text(yaml);
+    ASSERT_EQ(m.nq, static_cast<int>(cc.q.size())) << cc.name;
+    ks::Workspace<double> ws(m);
+    const std::vector<double> p = m.nominal_parameters();
+    ks::set_parameters(m, ws, p.data());
+    ks::compute_position(m, ws, cc.q.data());
+    const std::vector<double>& q = cc.q;
+    Matrix3d R = Matrix3d::Identity();
+    Vector3d d = Vector3d::Zero();  // joint-point displacement, parent (world) frame
+    const std::string n = cc.name;
+    if (n == "revolute") R = rot({1, 2, 2}, q[0]);
+    if (n == "prismatic") d = q[0] * Vector3d(0, 0.6, 0.8);
+    if (n == "cylindrical") {
+      R = rot({1, 1, 0}, q[0]);
+      d = q[1] * Vector3d(1, 1, 0).normalized();
+    }
+    if (n == "universal") R = rot({1, 0, 0}, q[0]) * rot({0, 1, 1}, q[1]);
+    if (n.rfind("planar", 0) == 0) {
+      // e1 = unit(x − (x·n) n) (y if n ∥ x), e2 = n × e1; translation first, then rot(n, q3).
+      const Vector3d nn = n == "planar_z" ? Vector3d(0, 0, 1) : n == "planar_x" ? Vector3d(1, 0, 0) : Vector3d(1, 1, 1).normalized();
+      const Vector3d x = n == "planar_x" ? Vector3d(0, 1, 0) : Vector3d(1, 0, 0);
+      const Vector3d e1 = (x - x.dot(nn) * nn).normalized(), e2 = nn.cross(e1);
+      if (n == "planar_z") {
+        EXPECT_LT((e1 - Vector3d::UnitX()).norm() + (e2 - Vector3d::UnitY()).norm(), 1e-15);
+      }
+      d = q[0] * e1 + q[1] * e2;
+      R = rot(nn, q[2]);
+    }
+    if (n == "spherical") R = quat_to_matrix(Eigen::Vector4d(q[0], q[1], q[2], q[3]));
+    if (n == "free") {
+      d = Vector3d(q[0], q[1], q[2]);
+      R = quat_to_matrix(Eigen::Vector4d(q[3], q[4], q[5], q[6]));
+    }
+    const Vector3d com = P + d - R * c;
+    EXPECT_LT(max_abs(ws.R[0] - R), 1e-14) << cc.name;
+    EXPECT_LT((ws.com[0] - com).norm(), 1e-14) << cc.name;
+  }
 }
 
 }  // namespace
