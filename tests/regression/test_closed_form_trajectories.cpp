@@ -54,11 +54,14 @@ struct SimRun {
   ks::Trajectory traj;
   std::size_t n = 0, ns = 0;
   double state(std::size_t k, std::size_t r) const { return traj.states[k * n + r]; }
-  double sens(std::size_t k, std::size_t r, std::size_t i) const { return traj.sensitivities[(k * n + r) * ns + i]; }
+  double sens(std::size_t k, std::size_t r, std::size_t i) const {
+    return traj.sensitivities[(k * n + r) * ns + i];
+  }
 };
 
-SimRun simulate_scene(const ks::Model& m, const std::vector<std::string>& sens_names, const ks::SampleInputs& inputs,
-                   const ks::solve::SolverOptions& o, const std::vector<double>& times) {
+SimRun simulate_scene(const ks::Model& m, const std::vector<std::string>& sens_names,
+                      const ks::SampleInputs& inputs, const ks::solve::SolverOptions& o,
+                      const std::vector<double>& times) {
   std::vector<ks::InputRef> sens;
   for (const auto& s : sens_names) sens.push_back(ks::resolve_input(m, s, "test"));
   ks::KaneProblem problem(m, sens);
@@ -130,10 +133,11 @@ TEST_P(DampedOscillator, StateAndSensitivitiesMatchClosedForm) {
     }
   }
   const auto& st = run.traj.result.stats;
-  std::printf("[ measure  ] oscillator %-22s rtol %.0e: worst rel. error %.2e (x and 5 sensitivities, "
-              "5 times); steps %ld, rhs %ld, sens rhs %ld, rhs for sens %ld, jac %ld\n",
-              c.name, o.rtol, worst, st.steps, st.rhs_evals, st.sens_rhs_evals, st.rhs_evals_for_sens,
-              st.jac_evals);
+  std::printf(
+      "[ measure  ] oscillator %-22s rtol %.0e: worst rel. error %.2e (x and 5 sensitivities, "
+      "5 times); steps %ld, rhs %ld, sens rhs %ld, rhs for sens %ld, jac %ld\n",
+      c.name, o.rtol, worst, st.steps, st.rhs_evals, st.sens_rhs_evals, st.rhs_evals_for_sens,
+      st.jac_evals);
   // Measured: exact ≤ 1.0e-8 at rtol 1e-10; DQ ≤ 5e-7 at rtol 1e-8 (the same integrator on a
   // hand-written oscillator gives 7e-9 and 5e-7, tests/unit/test_integrator.cpp).
   EXPECT_LT(worst, dq ? 3e-6 : 1e-7);
@@ -141,12 +145,17 @@ TEST_P(DampedOscillator, StateAndSensitivitiesMatchClosedForm) {
 
 INSTANTIATE_TEST_SUITE_P(
     Variants, DampedOscillator,
-    ::testing::Values(
-        OscillatorCase{"params/exact/exactJ", false, ks::solve::SensitivityRhs::exact, ks::solve::JacobianKind::exact},
-        OscillatorCase{"ic_names/exact/exactJ", true, ks::solve::SensitivityRhs::exact, ks::solve::JacobianKind::exact},
-        OscillatorCase{"params/exact/dqJ", false, ks::solve::SensitivityRhs::exact, ks::solve::JacobianKind::dq},
-        OscillatorCase{"params/dq/exactJ", false, ks::solve::SensitivityRhs::dq, ks::solve::JacobianKind::exact},
-        OscillatorCase{"ic_names/dq/dqJ", true, ks::solve::SensitivityRhs::dq, ks::solve::JacobianKind::dq}),
+    ::testing::Values(OscillatorCase{"params/exact/exactJ", false, ks::solve::SensitivityRhs::exact,
+                                     ks::solve::JacobianKind::exact},
+                      OscillatorCase{"ic_names/exact/exactJ", true,
+                                     ks::solve::SensitivityRhs::exact,
+                                     ks::solve::JacobianKind::exact},
+                      OscillatorCase{"params/exact/dqJ", false, ks::solve::SensitivityRhs::exact,
+                                     ks::solve::JacobianKind::dq},
+                      OscillatorCase{"params/dq/exactJ", false, ks::solve::SensitivityRhs::dq,
+                                     ks::solve::JacobianKind::exact},
+                      OscillatorCase{"ic_names/dq/dqJ", true, ks::solve::SensitivityRhs::dq,
+                                     ks::solve::JacobianKind::dq}),
     [](const ::testing::TestParamInfo<OscillatorCase>& i) {
       std::string s = i.param.name;
       for (char& ch : s)
@@ -175,7 +184,8 @@ TEST(DampedOscillatorInputs, InitialConditionNamesAgreeWithParameters) {
   const SimRun c = simulate_scene(m, {}, in, o, {0.0, 1.0});
   ASSERT_TRUE(c.traj.result.ok());
   const double wn = 2, zeta = 0.1, wd = wn * std::sqrt(1 - zeta * zeta), x0 = 0.3, v0 = -0.7;
-  const double x1 = std::exp(-zeta * wn) * (x0 * std::cos(wd) + (v0 + zeta * wn * x0) / wd * std::sin(wd));
+  const double x1 =
+      std::exp(-zeta * wn) * (x0 * std::cos(wd) + (v0 + zeta * wn * x0) / wd * std::sin(wd));
   EXPECT_EQ(c.state(0, 0), 0.3);
   EXPECT_NEAR(c.state(1, 0), x1, 1e-8 * std::abs(x1));
 }
@@ -199,13 +209,16 @@ double hermite_root(double t0, double t1, double q0, double q1, double d0, doubl
   const double h = t1 - t0;
   auto p = [&](double s) {
     const double s2 = s * s, s3 = s2 * s;
-    return (2 * s3 - 3 * s2 + 1) * q0 + (s3 - 2 * s2 + s) * h * d0 + (-2 * s3 + 3 * s2) * q1 + (s3 - s2) * h * d1;
+    return (2 * s3 - 3 * s2 + 1) * q0 + (s3 - 2 * s2 + s) * h * d0 + (-2 * s3 + 3 * s2) * q1 +
+           (s3 - s2) * h * d1;
   };
   double a = 0, b = 1;
   for (int it = 0; it < 200 && b - a > 1e-16; ++it) {
     const double mid = 0.5 * (a + b);
-    if ((p(mid) > 0) == (q0 > 0)) a = mid;
-    else b = mid;
+    if ((p(mid) > 0) == (q0 > 0))
+      a = mid;
+    else
+      b = mid;
   }
   return t0 + 0.5 * (a + b) * h;
 }
@@ -224,17 +237,23 @@ TEST(SmallAnglePendulum, PeriodMatchesUniformRodFormula) {
   for (std::size_t k = 0; k + 1 < times.size(); ++k) {
     const double q0 = run.state(k, 0), q1 = run.state(k + 1, 0);
     if ((q0 > 0) != (q1 > 0))
-      crossings.push_back(hermite_root(times[k], times[k + 1], q0, q1, run.state(k, 1), run.state(k + 1, 1)));
+      crossings.push_back(
+          hermite_root(times[k], times[k + 1], q0, q1, run.state(k, 1), run.state(k + 1, 1)));
   }
   ASSERT_GE(crossings.size(), 18u);
   double worst = 0;
   for (std::size_t i = 2; i < crossings.size(); ++i)  // consecutive full periods
     worst = std::max(worst, std::abs(crossings[i] - crossings[i - 2] - T_ref) / T_ref);
-  const double mean = (crossings.back() - crossings.front()) / (0.5 * static_cast<double>(crossings.size() - 1));
-  const double first = crossings.front() / (T_ref / 4);  // the first crossing is at a quarter period
-  std::printf("[ measure  ] pendulum: T_ref %.12f s; mean period rel. error %.2e, worst single period %.2e, "
-              "first crossing / (T/4) - 1 = %.2e, %zu crossings; without the amplitude correction: %.2e\n",
-              T_ref, std::abs(mean - T_ref) / T_ref, worst, first - 1, crossings.size(), std::abs(mean - T0) / T0);
+  const double mean =
+      (crossings.back() - crossings.front()) / (0.5 * static_cast<double>(crossings.size() - 1));
+  const double first =
+      crossings.front() / (T_ref / 4);  // the first crossing is at a quarter period
+  std::printf(
+      "[ measure  ] pendulum: T_ref %.12f s; mean period rel. error %.2e, worst single period "
+      "%.2e, "
+      "first crossing / (T/4) - 1 = %.2e, %zu crossings; without the amplitude correction: %.2e\n",
+      T_ref, std::abs(mean - T_ref) / T_ref, worst, first - 1, crossings.size(),
+      std::abs(mean - T0) / T0);
   EXPECT_LT(std::abs(mean - T_ref) / T_ref, 1e-8);
   EXPECT_LT(worst, 1e-7);
   EXPECT_LT(std::abs(first - 1), 1e-7);
@@ -278,7 +297,8 @@ TEST_P(TorqueFreeBody, OmegaMatchesJacobiEllipticFunctions) {
   std::vector<double> times;
   for (const auto& r : ref) times.push_back(r[0]);
   const ks::Joint& J = m.joints[0];
-  const int qe = J.quaternion_offset, uw = m.nq + J.u_offset + (J.type == ks::JointType::free ? 3 : 0);
+  const int qe = J.quaternion_offset,
+            uw = m.nq + J.u_offset + (J.type == ks::JointType::free ? 3 : 0);
   const Eigen::Matrix3d I = Eigen::Vector3d(1, 2, 3).asDiagonal();
   // Two tolerances: the errors must shrink with rtol (they are integration errors, not a
   // modelling error). Measured (BDF, atol 1e-14): ω 3.9e-8 at rtol 1e-10 and 6.8e-10 at 1e-12;
@@ -286,7 +306,8 @@ TEST_P(TorqueFreeBody, OmegaMatchesJacobiEllipticFunctions) {
   struct Level {
     double rtol, tol_w, tol_E, tol_H, tol_norm;
   };
-  for (const Level& lv : {Level{1e-10, 2e-7, 1e-7, 5e-8, 5e-9}, Level{1e-12, 5e-9, 2e-9, 1e-9, 1e-10}}) {
+  for (const Level& lv :
+       {Level{1e-10, 2e-7, 1e-7, 5e-8, 5e-9}, Level{1e-12, 5e-9, 2e-9, 1e-9, 1e-10}}) {
     const SimRun run = simulate_scene(m, {}, ks::SampleInputs(m), options(lv.rtol, 1e-14), times);
     ASSERT_TRUE(run.traj.result.ok()) << run.traj.result.message;
     Eigen::Vector3d H0;
@@ -304,9 +325,10 @@ TEST_P(TorqueFreeBody, OmegaMatchesJacobiEllipticFunctions) {
       worst_Hvec = std::max(worst_Hvec, (H - H0).norm() / std::sqrt(10.0));
     }
     const auto& st = run.traj.result.stats;
-    std::printf("[ measure  ] torque-free %-28s rtol %.0e, t in [0, 20]: max |w - (cn,sn,dn)| %.2e; "
-                "2E rel. drift %.2e; |H| %.2e; |H - H(0)|/|H| %.2e; max ||q| - 1| %.2e; steps %ld\n",
-                m.name.c_str(), lv.rtol, worst_w, worst_E, worst_H, worst_Hvec, worst_norm, st.steps);
+    std::printf(
+        "[ measure  ] torque-free %-28s rtol %.0e, t in [0, 20]: max |w - (cn,sn,dn)| %.2e; "
+        "2E rel. drift %.2e; |H| %.2e; |H - H(0)|/|H| %.2e; max ||q| - 1| %.2e; steps %ld\n",
+        m.name.c_str(), lv.rtol, worst_w, worst_E, worst_H, worst_Hvec, worst_norm, st.steps);
     // ω is O(1): absolute error = relative error.
     EXPECT_LT(worst_w, lv.tol_w);
     EXPECT_LT(worst_E, lv.tol_E);
@@ -323,7 +345,10 @@ TEST_P(TorqueFreeBody, OmegaMatchesJacobiEllipticFunctions) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Joints, TorqueFreeBody,
-                         ::testing::Values(TorqueFreeCase{"free", kFreeBody}, TorqueFreeCase{"spherical", kSphericalBody}),
-                         [](const ::testing::TestParamInfo<TorqueFreeCase>& i) { return std::string(i.param.name); });
+                         ::testing::Values(TorqueFreeCase{"free", kFreeBody},
+                                           TorqueFreeCase{"spherical", kSphericalBody}),
+                         [](const ::testing::TestParamInfo<TorqueFreeCase>& i) {
+                           return std::string(i.param.name);
+                         });
 
 }  // namespace

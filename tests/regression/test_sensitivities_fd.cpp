@@ -134,7 +134,8 @@ struct Sensitivities {
 };
 
 Sensitivities run_sensitivities(const ks::Model& m, const std::vector<ks::InputRef>& sens,
-                                const ks::solve::SolverOptions& o, const std::vector<double>& times) {
+                                const ks::solve::SolverOptions& o,
+                                const std::vector<double>& times) {
   ks::KaneProblem problem(m, sens);
   ks::solve::Integrator integ(o);
   ks::Trajectory tr;
@@ -161,28 +162,33 @@ std::vector<double> finite_differences(const ks::Model& m, const std::vector<ks:
   for (std::size_t i = 0; i < ns; ++i) {
     const double v = nominal_input(m, sens[i]);
     const double hr = 3e-4;
-    const double h = sens[i].kind == ks::InputRef::Kind::parameter ? hr * std::abs(v) : hr * std::max(std::abs(v), 1.0);
-    for (const auto& [shift, weight] : std::vector<std::pair<double, double>>{{2, -1}, {1, 8}, {-1, -8}, {-2, 1}}) {
+    const double h = sens[i].kind == ks::InputRef::Kind::parameter
+                         ? hr * std::abs(v)
+                         : hr * std::max(std::abs(v), 1.0);
+    for (const auto& [shift, weight] :
+         std::vector<std::pair<double, double>>{{2, -1}, {1, 8}, {-1, -8}, {-2, 1}}) {
       ks::SampleInputs in(m);
       in.set(sens[i], v + shift * h);
       problem.set_sample(in);
       ks::simulate(problem, integ, times, flags, tr);
       EXPECT_TRUE(tr.result.ok()) << tr.result.message;
       for (std::size_t k = 0; k < T; ++k)
-        for (std::size_t r = 0; r < n; ++r) fd[(k * n + r) * ns + i] += weight * tr.states[k * n + r] / (12 * h);
+        for (std::size_t r = 0; r < n; ++r)
+          fd[(k * n + r) * ns + i] += weight * tr.states[k * n + r] / (12 * h);
     }
   }
   return fd;
 }
 
 // Per sensitivity: the error measure of the file comment.
-std::vector<double> errors(const std::vector<double>& s, const std::vector<double>& fd, std::size_t T, std::size_t n,
-                           std::size_t ns) {
+std::vector<double> errors(const std::vector<double>& s, const std::vector<double>& fd,
+                           std::size_t T, std::size_t n, std::size_t ns) {
   std::vector<double> err(ns, 0.0);
   for (std::size_t i = 0; i < ns; ++i) {
     std::vector<double> peak(n, 0.0);
     for (std::size_t k = 0; k < T; ++k)
-      for (std::size_t r = 0; r < n; ++r) peak[r] = std::max(peak[r], std::abs(s[(k * n + r) * ns + i]));
+      for (std::size_t r = 0; r < n; ++r)
+        peak[r] = std::max(peak[r], std::abs(s[(k * n + r) * ns + i]));
     const double peak_i = *std::max_element(peak.begin(), peak.end());
     for (std::size_t k = 0; k < T; ++k)
       for (std::size_t r = 0; r < n; ++r) {
@@ -215,8 +221,8 @@ TEST_P(SensitivitiesVsFiniteDifferences, ExactSensitivityRhsAgreesWithTrajectory
       {"exact", ks::solve::SensitivityRhs::exact, 1e-8, 1e-10},
       {"dq", ks::solve::SensitivityRhs::dq, 1e-8, 1e-10},
   };
-  std::printf("\n  %-16s %-5s %-6s  %-9s  %6s %8s %9s %12s %9s\n", sc.name, "rhs", "rtol", "max err", "steps", "rhs",
-              "sens rhs", "rhs for sens", "wall s");
+  std::printf("\n  %-16s %-5s %-6s  %-9s  %6s %8s %9s %12s %9s\n", sc.name, "rhs", "rtol",
+              "max err", "steps", "rhs", "sens rhs", "rhs for sens", "wall s");
   std::vector<std::vector<double>> err_of;
   for (const Variant& v : variants) {
     ks::solve::SolverOptions o = options(v.rtol, v.atol);
@@ -225,20 +231,25 @@ TEST_P(SensitivitiesVsFiniteDifferences, ExactSensitivityRhsAgreesWithTrajectory
     const std::vector<double> err = errors(r.s, fd, T, n, ns);
     err_of.push_back(err);
     std::printf("  %-16s %-5s %-6.0e  %-9.2e  %6ld %8ld %9ld %12ld %9.4f\n", "", v.label, v.rtol,
-                *std::max_element(err.begin(), err.end()), r.stats.steps, r.stats.rhs_evals, r.stats.sens_rhs_evals,
-                r.stats.rhs_evals_for_sens, r.wall);
+                *std::max_element(err.begin(), err.end()), r.stats.steps, r.stats.rhs_evals,
+                r.stats.sens_rhs_evals, r.stats.rhs_evals_for_sens, r.wall);
   }
   std::printf("  per sensitivity (exact, rtol 1e-10):");
-  for (std::size_t i = 0; i < ns; ++i) std::printf(" %s %.1e%s", sc.sensitivities[i].c_str(), err_of[0][i], i + 1 < ns ? "," : "\n");
+  for (std::size_t i = 0; i < ns; ++i)
+    std::printf(" %s %.1e%s", sc.sensitivities[i].c_str(), err_of[0][i], i + 1 < ns ? "," : "\n");
 
   for (std::size_t i = 0; i < ns; ++i) {
-    EXPECT_LT(err_of[0][i], 1e-6) << sc.name << ": " << sc.sensitivities[i] << " (exact, rtol 1e-10)";
-    EXPECT_LT(err_of[1][i], 1e-4) << sc.name << ": " << sc.sensitivities[i] << " (exact, rtol 1e-8)";
+    EXPECT_LT(err_of[0][i], 1e-6) << sc.name << ": " << sc.sensitivities[i]
+                                  << " (exact, rtol 1e-10)";
+    EXPECT_LT(err_of[1][i], 1e-4) << sc.name << ": " << sc.sensitivities[i]
+                                  << " (exact, rtol 1e-8)";
     EXPECT_LT(err_of[2][i], 1e-3) << sc.name << ": " << sc.sensitivities[i] << " (dq, rtol 1e-8)";
   }
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, SensitivitiesVsFiniteDifferences, ::testing::ValuesIn(scenes()),
-                         [](const ::testing::TestParamInfo<SceneCase>& i) { return std::string(i.param.name); });
+                         [](const ::testing::TestParamInfo<SceneCase>& i) {
+                           return std::string(i.param.name);
+                         });
 
 }  // namespace

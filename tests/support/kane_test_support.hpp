@@ -62,8 +62,8 @@ inline std::vector<double> qdot_of(const Model& m, const double* q, const double
     for (int k = 0; k < lin; ++k) qd[J.q_offset + k] = u[J.u_offset + k];
     const double* e = q + J.quaternion_offset;
     const double* w = u + J.u_offset + lin;
-    const Eigen::Vector4d d =
-        0.5 * quat_mul(Eigen::Vector4d(e[0], e[1], e[2], e[3]), Eigen::Vector4d(0, w[0], w[1], w[2]));
+    const Eigen::Vector4d d = 0.5 * quat_mul(Eigen::Vector4d(e[0], e[1], e[2], e[3]),
+                                             Eigen::Vector4d(0, w[0], w[1], w[2]));
     for (int c = 0; c < 4; ++c) qd[J.quaternion_offset + c] = d[c];
   }
   return qd;
@@ -87,6 +87,8 @@ inline std::vector<double> random_state(const Model& m, std::mt19937_64& rng, do
   return y;
 }
 
-inline double max_abs(const Eigen::MatrixXd& a) { return a.cwiseAbs().maxCoeff(); }
+inline double max_abs(const Eigen::MatrixXd& a) {
+  return a.cwiseAbs().maxCoeff();
+}
 
 }  // namespace kanesens::testing

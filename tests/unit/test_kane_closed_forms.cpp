@@ -30,9 +30,11 @@ struct Evaluated {
   double T = 0, V = 0;
 };
 
-Evaluated evaluate(const ks::Model& m, ks::Workspace<double>& ws, const std::vector<double>& y, double t = 0) {
+Evaluated evaluate(const ks::Model& m, ks::Workspace<double>& ws, const std::vector<double>& y,
+                   double t = 0) {
   ks::evaluate_mass_matrix_and_forcing(m, ws, t, y.data(), y.data() + m.nq);
-  return {ws.mass_matrix, ws.forcing, ks::kinetic_energy(m, ws), ks::potential_energy(m, ws, y.data())};
+  return {ws.mass_matrix, ws.forcing, ks::kinetic_energy(m, ws),
+          ks::potential_energy(m, ws, y.data())};
 }
 
 // ---- (a) top on a spherical joint -----------------------------------------------------------
@@ -77,7 +79,8 @@ TEST(KaneClosedForms, TopOnSphericalJointIsEulerAboutFixedPoint) {
     worst_f = std::max(worst_f, (ev.f - f_ref).cwiseAbs().maxCoeff() / f_ref.cwiseAbs().maxCoeff());
     const double T_ref = 0.5 * w.dot(IO * w);
     const double V_ref = -mass * g.dot(R * r);
-    worst_E = std::max(worst_E, std::abs(ev.T - T_ref) / std::abs(T_ref) + std::abs(ev.V - V_ref) / (mass * g.norm() * l));
+    worst_E = std::max(worst_E, std::abs(ev.T - T_ref) / std::abs(T_ref) +
+                                    std::abs(ev.V - V_ref) / (mass * g.norm() * l));
   }
   std::printf("top: worst rel. error M %.2e, f %.2e, energies %.2e\n", worst_M, worst_f, worst_E);
   EXPECT_LT(worst_M, kTol);
@@ -125,9 +128,11 @@ TEST(KaneClosedForms, FreeBodyIsNewtonEuler) {
     worst_f = std::max(worst_f, (ev.f - f_ref).cwiseAbs().maxCoeff() / f_ref.cwiseAbs().maxCoeff());
     const double T_ref = 0.5 * mass * v.squaredNorm() + 0.5 * w.dot(I * w);
     const double V_ref = -mass * g.dot(x);
-    worst_E = std::max(worst_E, std::abs(ev.T - T_ref) / T_ref + std::abs(ev.V - V_ref) / (mass * g.norm() * 2));
+    worst_E = std::max(
+        worst_E, std::abs(ev.T - T_ref) / T_ref + std::abs(ev.V - V_ref) / (mass * g.norm() * 2));
   }
-  std::printf("free body: worst rel. error M %.2e, f %.2e, energies %.2e\n", worst_M, worst_f, worst_E);
+  std::printf("free body: worst rel. error M %.2e, f %.2e, energies %.2e\n", worst_M, worst_f,
+              worst_E);
   EXPECT_LT(worst_M, kTol);
   EXPECT_LT(worst_f, kTol);
   EXPECT_LT(worst_E, kTol);
@@ -162,9 +167,11 @@ TEST(KaneClosedForms, UniformRodPendulum) {
     worst_M = std::max(worst_M, std::abs(ev.M(0, 0) - M_ref) / M_ref);
     worst_f = std::max(worst_f, std::abs(ev.f[0] - f_ref) / (mass * g * L / 2));
     const double T_ref = 0.5 * M_ref * y[1] * y[1], V_ref = -mass * g * (L / 2) * std::cos(y[0]);
-    worst_E = std::max(worst_E, std::abs(ev.T - T_ref) / (M_ref * 25) + std::abs(ev.V - V_ref) / (mass * g * L));
+    worst_E = std::max(
+        worst_E, std::abs(ev.T - T_ref) / (M_ref * 25) + std::abs(ev.V - V_ref) / (mass * g * L));
   }
-  std::printf("rod pendulum: worst rel. error M %.2e, f %.2e, energies %.2e\n", worst_M, worst_f, worst_E);
+  std::printf("rod pendulum: worst rel. error M %.2e, f %.2e, energies %.2e\n", worst_M, worst_f,
+              worst_E);
   EXPECT_LT(worst_M, kTol);
   EXPECT_LT(worst_f, kTol);
   EXPECT_LT(worst_E, kTol);
@@ -196,7 +203,8 @@ TEST(KaneClosedForms, PrismaticSpringMassDamper) {
     const std::vector<double> y = random_state(m, rng, 2.0, 3.0);
     const Evaluated ev = evaluate(m, ws, y);
     const double f_ref = -k * y[0] - c * y[1];
-    worst = std::max({worst, std::abs(ev.M(0, 0) - mass) / mass, std::abs(ev.f[0] - f_ref) / (k * 2 + c * 3),
+    worst = std::max({worst, std::abs(ev.M(0, 0) - mass) / mass,
+                      std::abs(ev.f[0] - f_ref) / (k * 2 + c * 3),
                       std::abs(ev.T - 0.5 * mass * y[1] * y[1]) / (mass * 9),
                       std::abs(ev.V - 0.5 * k * y[0] * y[0]) / (k * 4)});
   }
@@ -213,7 +221,9 @@ struct ConventionCase {
   std::vector<double> q;
 };
 
-Matrix3d rot(const Vector3d& axis, double angle) { return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix(); }
+Matrix3d rot(const Vector3d& axis, double angle) {
+  return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+}
 
 TEST(KaneClosedForms, JointKinematicsFollowSceneContract) {
   const Vector3d P(0.3, -0.2, 0.5), c(0.1, 0.4, -0.25);
@@ -257,7 +267,9 @@ scene:
     if (n == "universal") R = rot({1, 0, 0}, q[0]) * rot({0, 1, 1}, q[1]);
     if (n.rfind("planar", 0) == 0) {
       // e1 = unit(x − (x·n) n) (y if n ∥ x), e2 = n × e1; translation first, then rot(n, q3).
-      const Vector3d nn = n == "planar_z" ? Vector3d(0, 0, 1) : n == "planar_x" ? Vector3d(1, 0, 0) : Vector3d(1, 1, 1).normalized();
+      const Vector3d nn = n == "planar_z"   ? Vector3d(0, 0, 1)
+                          : n == "planar_x" ? Vector3d(1, 0, 0)
+                                            : Vector3d(1, 1, 1).normalized();
       const Vector3d x = n == "planar_x" ? Vector3d(0, 1, 0) : Vector3d(1, 0, 0);
       const Vector3d e1 = (x - x.dot(nn) * nn).normalized(), e2 = nn.cross(e1);
       if (n == "planar_z") {

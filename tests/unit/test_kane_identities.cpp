@@ -11,9 +11,9 @@
 //   4. Work–energy: along ẏ = f(t, y), dE/dt = P, E = T + V (gravity, joint springs, spring
 //      potentials) and P the power of everything non-conservative — joint dampers (−c u²),
 //      the damping of spring-dampers (−c L̇²), applied forces (F·v_P) and torques (T·ω),
-//      including forces that depend on t, q and u. dE/dt is computed (a) by fourth-order central differences
-//      E(y ± h ẏ) and (b) exactly, with E evaluated on Workspace<Dual> with tangent ẏ. P is
-//      computed in the test from the scene's forces, written out again in C++, with point
+//      including forces that depend on t, q and u. dE/dt is computed (a) by fourth-order central
+//      differences E(y ± h ẏ) and (b) exactly, with E evaluated on Workspace<Dual> with tangent ẏ.
+//      P is computed in the test from the scene's forces, written out again in C++, with point
 //      velocities from dual tangents of the position stage. Because u̇ = M⁻¹f enters dE/dt
 //      through T, this ties the forcing f to the energies and the scene's forces.
 #include <gtest/gtest.h>
@@ -45,8 +45,12 @@ class Kinematics {
     for (int i = 0; i < m_.nq; ++i) qd[i] = ks::Dual(q[i], dq[i]);
     ks::compute_position(m_, ws_, qd.data());
   }
-  Matrix3d R(int b) const { return ws_.R[b].unaryExpr([](const ks::Dual& x) { return x.v; }); }
-  Matrix3d Rdot(int b) const { return ws_.R[b].unaryExpr([](const ks::Dual& x) { return x.d; }); }
+  Matrix3d R(int b) const {
+    return ws_.R[b].unaryExpr([](const ks::Dual& x) { return x.v; });
+  }
+  Matrix3d Rdot(int b) const {
+    return ws_.R[b].unaryExpr([](const ks::Dual& x) { return x.d; });
+  }
   Vector3d omega(int b) const { return unskew3(Rdot(b) * R(b).transpose()); }
   Vector3d point(int b, const Vector3d& r) const {
     if (b < 0) return r;
@@ -72,7 +76,8 @@ class Kinematics {
 };
 
 // Power of the non-conservative forces of a scene, written by hand from its YAML.
-using PowerFn = std::function<double(const ks::Model&, const Kinematics&, double t, const double* q, const double* u)>;
+using PowerFn = std::function<double(const ks::Model&, const Kinematics&, double t, const double* q,
+                                     const double* u)>;
 
 struct SceneCase {
   const char* name;
@@ -81,7 +86,9 @@ struct SceneCase {
   double range_q = 1.0, range_u = 1.0;
 };
 
-int body(const ks::Model& m, const char* name) { return m.find_body(name); }
+int body(const ks::Model& m, const char* name) {
+  return m.find_body(name);
+}
 
 // ---- scenes -----------------------------------------------------------------------------------
 
@@ -107,7 +114,8 @@ scene:
        point_b: [1.0, -2.0, 0], k: ks, c: cs, rest: 0.5}
 )yaml";
 
-double planar_chain_power(const ks::Model& m, const Kinematics& kin, double, const double*, const double* u) {
+double planar_chain_power(const ks::Model& m, const Kinematics& kin, double, const double*,
+                          const double* u) {
   const double c1 = 0.2, c2 = 0.15, cs = 0.7, L = 0.8;
   const double Ld = kin.length_rate(body(m, "l3"), {0, -L / 2, 0}, -1, {1.0, -2.0, 0});
   return -c1 * u[0] * u[0] - c2 * u[1] * u[1] - c1 * u[2] * u[2] - cs * Ld * Ld;
@@ -159,7 +167,8 @@ scene:
        parent_point: [0, 0.05, 0.1], child_point: [0, -0.05, 0], damper: {c: cf}}
 )yaml";
 
-double spherical_top_power(const ks::Model&, const Kinematics&, double, const double*, const double* u) {
+double spherical_top_power(const ks::Model&, const Kinematics&, double, const double*,
+                           const double* u) {
   return -0.05 * u[3] * u[3];  // speeds: top.wx, wy, wz, hinge.u
 }
 
@@ -190,7 +199,8 @@ scene:
        frame: body}
 )yaml";
 
-double free_forced_power(const ks::Model& m, const Kinematics& kin, double t, const double* q, const double* u) {
+double free_forced_power(const ks::Model& m, const Kinematics& kin, double t, const double* q,
+                         const double* u) {
   // q: float.x y z qw qx qy qz, swing.q;  u: float.vx vy vz wx wy wz, swing.u.
   const int brick = body(m, "brick"), bob = body(m, "bob");
   const double cs = 0.4, cb = 0.08;
@@ -237,7 +247,8 @@ scene:
        vector: ["0.2*hover.qz", "2 + 0.3*cos(3*t)", "-0.1*hover.wy"], frame: body}
 )yaml";
 
-double nested_power(const ks::Model& m, const Kinematics& kin, double t, const double* q, const double* u) {
+double nested_power(const ks::Model& m, const Kinematics& kin, double t, const double* q,
+                    const double* u) {
   // q: turn.q, ball.qw..qz (1-4), hover.x y z qw qx qy qz (5-11), skate.q1..q3 (12-14);
   // u: turn.u, ball.wx..wz (1-3), hover.vx..wz (4-9), skate.u1..u3 (10-12).
   const int drone = body(m, "drone");
@@ -283,7 +294,8 @@ TEST_P(KaneIdentities, MassMatrixIsSpdAndMatchesPartialVelocityDefinition) {
 
     // Partial velocities by central differences along q̇ = N(q) e_k.
     const int nb = m.nbody();
-    std::vector<std::vector<Vector3d>> V(nb, std::vector<Vector3d>(m.nu)), W(nb, std::vector<Vector3d>(m.nu));
+    std::vector<std::vector<Vector3d>> V(nb, std::vector<Vector3d>(m.nu)),
+        W(nb, std::vector<Vector3d>(m.nu));
     std::vector<Matrix3d> R0(nb);
     std::vector<Matrix3d> I_world(nb);
     ks::compute_position(m, ws_h, q);
@@ -316,8 +328,8 @@ TEST_P(KaneIdentities, MassMatrixIsSpdAndMatchesPartialVelocityDefinition) {
           M_def(k, l) += ws_h.mass[b] * V[b][k].dot(V[b][l]) + W[b][k].dot(I_world[b] * W[b][l]);
     worst_def = std::max(worst_def, max_abs(M - M_def) / scale);
   }
-  std::printf("%-14s M: asymmetry %.1e, min eig/max eig %.2e, |M - M_def|/|M| %.2e (FD h = %g)\n", sc.name,
-              worst_sym, min_eig, worst_def, h);
+  std::printf("%-14s M: asymmetry %.1e, min eig/max eig %.2e, |M - M_def|/|M| %.2e (FD h = %g)\n",
+              sc.name, worst_sym, min_eig, worst_def, h);
   EXPECT_LE(worst_sym, 1e-15);
   EXPECT_GT(min_eig, 0.0);
   EXPECT_LT(worst_def, 1e-8);  // central differences: O(h²) + O(eps/h) ≈ 1e-10
@@ -364,7 +376,8 @@ TEST_P(KaneIdentities, EnergyRateEqualsPowerOfNonConservativeForces) {
     for (int b = 0; b < m.nbody(); ++b) {
       const Vector3d v = kin.point_velocity(b, Vector3d::Zero()), w = kin.omega(b);
       const Matrix3d R = kin.R(b);
-      T_ref += 0.5 * ws.mass[b] * v.squaredNorm() + 0.5 * w.dot(R * ws.inertia_body[b] * R.transpose() * w);
+      T_ref += 0.5 * ws.mass[b] * v.squaredNorm() +
+               0.5 * w.dot(R * ws.inertia_body[b] * R.transpose() * w);
     }
     const double E0 = energy(t, y);
     const double T = ks::kinetic_energy(m, ws);
@@ -403,9 +416,10 @@ TEST_P(KaneIdentities, EnergyRateEqualsPowerOfNonConservativeForces) {
     worst_dual = std::max(worst_dual, std::abs(dE_dual - P) / scale);
     max_P = std::max(max_P, std::abs(P) / scale);
   }
-  std::printf("%-14s dE/dt = P: rel. error finite diff %.2e, dual %.2e (|P|/scale up to %.2f); "
-              "T vs exact point velocities %.2e; q̇ = N(q)u %.1e\n",
-              sc.name, worst_fd, worst_dual, max_P, worst_T, worst_N);
+  std::printf(
+      "%-14s dE/dt = P: rel. error finite diff %.2e, dual %.2e (|P|/scale up to %.2f); "
+      "T vs exact point velocities %.2e; q̇ = N(q)u %.1e\n",
+      sc.name, worst_fd, worst_dual, max_P, worst_T, worst_N);
   EXPECT_LT(worst_fd, 1e-8);
   EXPECT_LT(worst_dual, 1e-12);
   EXPECT_LT(worst_T, 1e-12);
@@ -413,6 +427,8 @@ TEST_P(KaneIdentities, EnergyRateEqualsPowerOfNonConservativeForces) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, KaneIdentities, ::testing::ValuesIn(scenes()),
-                         [](const ::testing::TestParamInfo<SceneCase>& info) { return std::string(info.param.name); });
+                         [](const ::testing::TestParamInfo<SceneCase>& info) {
+                           return std::string(info.param.name);
+                         });
 
 }  // namespace
