@@ -60,9 +60,21 @@ int run_eom(const EomOptions& o) {
   j.key("udot");
   if (ok) j.array(ws.udot.data(), m.nu);
   else j.value(std::nan(""));  // null: M is not positive definite
-  j.key("constraint_matrix").begin_array().end_array();
-  j.key("constraint_bias").begin_array().end_array();
-  j.key("multipliers").begin_array().end_array();
+  const int nc = m.nconstraint_rows;
+  j.key("constraint_names").array(m.constraint_row_names);
+  j.key("constraint_matrix").begin_array();
+  for (int r = 0; r < nc; ++r) {
+    j.begin_array();
+    for (int c = 0; c < m.nu; ++c) j.value(ws.constraint_matrix(r, c));
+    j.end_array();
+  }
+  j.end_array();
+  // constraint_bias = −(Ȧu + ȧ0): the right-hand side of A u̇ = constraint_bias.
+  j.key("constraint_bias").array(ws.constraint_bias.data(), static_cast<std::size_t>(nc));
+  j.key("constraint_velocity_residual").array(ws.velocity_residual.data(), static_cast<std::size_t>(nc));
+  j.key("constraint_position_residual").array(ws.position_residual.data(), static_cast<std::size_t>(nc));
+  j.key("multipliers").array(ws.multipliers.data(), static_cast<std::size_t>(nc));
+  j.key("constraint_rank").value(nc > 0 ? ws.constraint_rank : 0);
   j.key("kinetic_energy").value(kinetic_energy(m, ws));
   j.key("potential_energy").value(potential_energy(m, ws, q.data()));
   j.key("mass_matrix_positive_definite").value(ok);

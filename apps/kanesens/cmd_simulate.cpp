@@ -38,6 +38,26 @@ void print_json(const Model& m, const KaneProblem& problem, const std::vector<do
     j.end_array();
   }
   j.end_array();
+  const std::size_t nc = static_cast<std::size_t>(m.nconstraint_rows);
+  j.key("constraint_names").array(m.constraint_row_names);
+  j.key("multipliers").begin_array();
+  for (std::size_t k = 0; k < times.size() && !tr.multipliers.empty(); ++k) j.array(&tr.multipliers[k * nc], nc);
+  j.end_array();
+  j.key("multiplier_sensitivities").begin_array();
+  for (std::size_t k = 0; k < times.size() && !tr.multiplier_sensitivities.empty(); ++k) {
+    j.begin_array();
+    for (std::size_t r = 0; r < nc; ++r) j.array(&tr.multiplier_sensitivities[(k * nc + r) * ns], ns);
+    j.end_array();
+  }
+  j.end_array();
+  j.key("constraint_residuals").begin_object();
+  j.key("position").array(tr.position_residual);
+  j.key("velocity").array(tr.velocity_residual);
+  j.end_object();
+  j.key("initial_correction").begin_object();
+  j.key("position").value(problem.initial_position_correction());
+  j.key("velocity").value(problem.initial_velocity_correction());
+  j.end_object();
   j.key("outputs").begin_object();
   if (!tr.energy.empty()) j.key("energy").array(tr.energy);
   j.end_object();
@@ -109,13 +129,15 @@ int run_simulate(const SimulateOptions& o) {
   std::vector<InputRef> sens;
   for (std::size_t i = 0; i < sens_names.size(); ++i)
     sens.push_back(resolve_input(m, sens_names[i], o.sens.empty() ? "sensitivities[" + std::to_string(i) + "]" : "--sens"));
-  KaneProblem problem(m, sens);
+  KaneProblem problem(m, sens, study.constraints);
   problem.set_sample(inputs);
   solve::Integrator integrator(study.solver);
   RecordFlags flags;
   flags.states = true;
   flags.sensitivities = !sens.empty();
   flags.energy = true;
+  flags.multipliers = m.nconstraint_rows > 0;
+  flags.constraint_residual = m.nconstraint_rows > 0;
   Trajectory tr;
   simulate(problem, integrator, study.output_times, flags, tr);
   if (o.format == "json") print_json(m, problem, study.output_times, tr);

@@ -95,6 +95,8 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
   flags.states = st.record.count("states") > 0;
   flags.sensitivities = st.record.count("sensitivities") > 0 && !sens.empty();
   flags.energy = st.record.count("energy") > 0;
+  flags.multipliers = st.record.count("multipliers") > 0 && model.nconstraint_rows > 0;
+  flags.constraint_residual = st.record.count("constraint_residual") > 0 && model.nconstraint_rows > 0;
   if (st.record.count("sensitivities") && sens.empty())
     throw InputError({st.file, 0, 0}, "record", "'sensitivities' is recorded but the study lists no sensitivities");
   if (!flags.sensitivities) sens.clear();  // what is not recorded is not computed
@@ -105,11 +107,16 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
   for (const auto& in : design.inputs()) layout.parameter_names.push_back(in.name);
   for (const auto& s : sens) layout.sensitivity_names.push_back(s.name);
   if (flags.energy) layout.output_names.push_back("energy");
+  if (flags.constraint_residual) {
+    layout.output_names.push_back("position_residual");
+    layout.output_names.push_back("velocity_residual");
+  }
+  layout.constraint_names = model.constraint_row_names;
+  layout.record_multipliers = flags.multipliers;
   layout.stat_names = kStatNames;
   layout.nsamples = design.size();
   layout.record_states = flags.states;
   layout.record_sensitivities = flags.sensitivities;
-  layout.record_multipliers = false;
   std::string hash_input = st.text + "\n--scene--\n" + st.scene.text;
   for (const auto& s : set) hash_input += "\n--set " + s;
   layout.text_attributes = {{"kanesens_version", version_short()},
@@ -153,7 +160,8 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
 
   SharedCounter next(comm, 0), done(comm, 0);
   const long long npending = static_cast<long long>(pending.size());
-  KaneProblem problem(model, sens);
+  KaneProblem problem(model, sens, st.constraints);
+  std::vector<double> outputs;
   solve::Integrator integrator(st.solver);
   Trajectory traj;
   resize_trajectory(traj, problem, st.output_times.size(), flags);
@@ -227,7 +235,12 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
       row.initial_state = y0;
       row.states = traj.states;
       row.sensitivities = traj.sensitivities;
-      row.outputs = traj.energy;
+      outputs.clear();  // [output][time], in layout.output_names order
+      outputs.insert(outputs.end(), traj.energy.begin(), traj.energy.end());
+      outputs.insert(outputs.end(), traj.position_residual.begin(), traj.position_residual.end());
+      outputs.insert(outputs.end(), traj.velocity_residual.begin(), traj.velocity_residual.end());
+      row.outputs = outputs;
+      row.multipliers = traj.multipliers;
       row.stats = stats;
       file.write_sample(row);
       io_s += seconds_since(t0);

@@ -9,8 +9,9 @@
 
 namespace kanesens {
 
-KaneProblem::KaneProblem(const Model& model, std::vector<InputRef> sensitivities)
-    : model_(model),
+KaneProblem::KaneProblem(const Model& model, std::vector<InputRef> sensitivities, ConstraintOptions constraints)
+    : options_(constraints),
+      model_(model),
       sens_(std::move(sensitivities)),
       inputs_(model),
       ws_(model),
@@ -22,6 +23,22 @@ KaneProblem::KaneProblem(const Model& model, std::vector<InputRef> sensitivities
       ydot_dual_(model.nstate()) {
   for (std::size_t i = 0; i < sens_.size(); ++i)
     if (sens_[i].kind == InputRef::Kind::parameter) ws_sens_[i] = std::make_unique<Workspace<Dual>>(model);
+  for (const Constraint& c : model.constraints)
+    for (int r = 0; r < c.nrows; ++r)
+      if (c.holonomic[r]) holonomic_rows_.push_back(c.row_offset + r);
+  if (model.nconstraint_rows > 0) ws_project_ = std::make_unique<Workspace<Dual>>(model);
+  if (options_.stabilization == ConstraintOptions::Stabilization::baumgarte) {
+    // The same Baumgarte terms in every workspace, so Jacobian and sensitivities differentiate
+    // the equations that are integrated.
+    auto set = [&](auto& ws) {
+      ws.baumgarte_alpha = options_.alpha;
+      ws.baumgarte_beta = options_.beta;
+    };
+    set(ws_);
+    set(ws_jacobian_);
+    for (auto& w : ws_sens_)
+      if (w) set(*w);
+  }
   set_sample(inputs_);
 }
 
@@ -39,6 +56,7 @@ void KaneProblem::set_sample(const SampleInputs& inputs) {
     set_parameters(model_, *ws_sens_[i], p.data());
     p[sens_[i].index].d = 0;
   }
+  if (ws_project_) set_parameters(model_, *ws_project_, std::vector<Dual>(parameters_.begin(), parameters_.end()).data());
   std::copy(parameters_.begin(), parameters_.end(), dq_parameters_.begin());
   for (std::size_t i = 0; i < sens_.size(); ++i)
     dq_parameters_[model_.nparam() + i] = sens_[i].kind == InputRef::Kind::parameter ? 0.0 : 1.0;
@@ -63,6 +81,186 @@ void KaneProblem::initial_state_dual(int i, std::vector<Dual>& y0) const {
     if (!(n.v > 0)) throw InputError({}, j.name + ".q0", "the initial quaternion of joint '" + j.name + "' is zero");
     for (int c = 0; c < 4; ++c) e[c] = e[c] / n;
   }
+  if (model_.nconstraint_rows > 0 && options_.correct_initial) make_consistent(y0, ws);
+}
+
+void KaneProblem::position_constraints(double t, const double* q, Eigen::VectorXd& g, Eigen::MatrixXd* G) const {
+  const int nq = model_.nq, nu = model_.nu, mh = static_cast<int>(holonomic_rows_.size());
+  Workspace<Dual>& ws = *ws_project_;
+  std::vector<Dual> qd(q, q + nq), ud(nu, Dual(0));
+  g.resize(mh);
+  if (G) G->resize(mh, nq);
+  const int columns = G ? nq : 1;
+  for (int i = 0; i < columns; ++i) {
+    if (G) qd[i].d = 1;
+    evaluate_state_expressions(model_, ws, Dual(t), qd.data(), ud.data());
+    compute_position(model_, ws, qd.data());
+    compute_velocity(model_, ws, ud.data());
+    compute_kinematic_derivatives(model_, ws, qd.data(), ud.data());
+    compute_constraints(model_, ws, qd.data(), ud.data());
+    for (int r = 0; r < mh; ++r) {
+      g[r] = ws.position_residual[holonomic_rows_[r]].v;
+      if (G) (*G)(r, i) = ws.position_residual[holonomic_rows_[r]].d;
+    }
+    if (G) qd[i].d = 0;
+  }
+}
+
+// Corrects y0 onto the constraints, in dual arithmetic so the initial sensitivities are those of
+// the corrected state: positions by Newton on the dependent coordinates (chosen from the last
+// coordinate backwards, so the first ones — the user's driving coordinates — are kept;
+// quaternion components are never moved), speeds by the least-squares correction.
+void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& ws_params) const {
+  const int nq = model_.nq, nu = model_.nu, mh = static_cast<int>(holonomic_rows_.size());
+  Workspace<Dual> ws = ws_params;
+  Dual* q = y0.data();
+  Dual* u = y0.data() + nq;
+  std::vector<double> qv(nq);
+  auto values = [&] { for (int i = 0; i < nq; ++i) qv[i] = q[i].v; };
+  const double t0 = ws.time.v;
+  double dq_max = 0, du_max = 0;
+  if (mh > 0) {
+    Eigen::VectorXd g;
+    Eigen::MatrixXd G;
+    values();
+    position_constraints(t0, qv.data(), g, &G);
+    std::vector<int> quaternion(nq, 0);
+    for (const Joint& J : model_.joints)
+      if (J.quaternion_offset >= 0)
+        for (int c = 0; c < 4; ++c) quaternion[J.quaternion_offset + c] = 1;
+    const Eigen::Index rank = Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(G).rank();
+    std::vector<int> dep;
+    for (int i = nq - 1; i >= 0 && static_cast<Eigen::Index>(dep.size()) < rank; --i) {
+      if (quaternion[i]) continue;
+      std::vector<int> trial = dep;
+      trial.push_back(i);
+      Eigen::MatrixXd Gd(mh, static_cast<Eigen::Index>(trial.size()));
+      for (std::size_t c = 0; c < trial.size(); ++c) Gd.col(static_cast<Eigen::Index>(c)) = G.col(trial[c]);
+      if (Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(Gd).rank() == static_cast<Eigen::Index>(trial.size())) dep = trial;
+    }
+    std::vector<Dual> gd(mh);
+    for (int iter = 0, converged = 0; iter < 50 && converged < 2; ++iter) {
+      // Residual in duals (carries the parameter and initial-condition tangents).
+      std::vector<Dual> ud(nu, Dual(0));
+      evaluate_state_expressions(model_, ws, Dual(t0), q, ud.data());
+      compute_position(model_, ws, q);
+      compute_velocity(model_, ws, ud.data());
+      compute_kinematic_derivatives(model_, ws, q, ud.data());
+      compute_constraints(model_, ws, q, ud.data());
+      double gmax = 0;
+      for (int r = 0; r < mh; ++r) {
+        gd[r] = ws.position_residual[holonomic_rows_[r]];
+        gmax = std::max(gmax, std::abs(gd[r].v));
+      }
+      if (gmax < 1e-13) ++converged;  // one more step after convergence settles the tangents
+      values();
+      position_constraints(t0, qv.data(), g, &G);
+      Eigen::MatrixXd Gd(mh, static_cast<Eigen::Index>(dep.size()));
+      for (std::size_t c = 0; c < dep.size(); ++c) Gd.col(static_cast<Eigen::Index>(c)) = G.col(dep[c]);
+      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Gd);
+      Eigen::VectorXd gv(mh), gt(mh);
+      for (int r = 0; r < mh; ++r) {
+        gv[r] = gd[r].v;
+        gt[r] = gd[r].d;
+      }
+      const Eigen::VectorXd dv = cod.solve(gv), dt = cod.solve(gt);
+      for (std::size_t c = 0; c < dep.size(); ++c) {
+        q[dep[c]].v -= dv[static_cast<Eigen::Index>(c)];
+        q[dep[c]].d -= dt[static_cast<Eigen::Index>(c)];
+        dq_max = std::max(dq_max, std::abs(dv[static_cast<Eigen::Index>(c)]));
+      }
+      if (iter == 49) throw InputError({}, "initial conditions", "cannot satisfy the position constraints at t0 (Newton did not converge; residual " + std::to_string(gmax) + ")");
+    }
+  }
+  for (int iter = 0; iter < 3; ++iter) {
+    evaluate_state_expressions(model_, ws, Dual(t0), q, u);
+    compute_position(model_, ws, q);
+    compute_velocity(model_, ws, u);
+    compute_kinematic_derivatives(model_, ws, q, u);
+    compute_constraints(model_, ws, q, u);
+    const int m = model_.nconstraint_rows;
+    Eigen::MatrixXd A(m, nu);
+    Eigen::VectorXd rv(m), rt(m);
+    for (int r = 0; r < m; ++r) {
+      for (int k = 0; k < nu; ++k) A(r, k) = ws.constraint_matrix(r, k).v;
+      rv[r] = ws.velocity_residual[r].v;
+      rt[r] = ws.velocity_residual[r].d;
+    }
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
+    const Eigen::VectorXd dv = cod.solve(rv), dt = cod.solve(rt);
+    for (int k = 0; k < nu; ++k) {
+      u[k].v -= dv[k];
+      u[k].d -= dt[k];
+      du_max = std::max(du_max, std::abs(dv[k]));
+    }
+  }
+  initial_dq_ = dq_max;
+  initial_du_ = du_max;
+}
+
+int KaneProblem::project(double t, const double* y, double* corr, double, double* err) {
+  const int nq = model_.nq, nu = model_.nu, m = model_.nconstraint_rows;
+  const int mh = static_cast<int>(holonomic_rows_.size());
+  std::vector<double> q(y, y + nq);
+  Eigen::VectorXd g;
+  Eigen::MatrixXd G;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> codG;
+  if (mh > 0) {
+    position_constraints(t, q.data(), g, &G);
+    codG.compute(G);
+    for (int iter = 0; iter < 4 && g.lpNorm<Eigen::Infinity>() > 1e-14; ++iter) {
+      const Eigen::VectorXd dq = codG.solve(g);
+      for (int i = 0; i < nq; ++i) q[i] -= dq[i];
+      position_constraints(t, q.data(), g, nullptr);
+    }
+    if (!g.allFinite()) return 1;
+  }
+  for (int i = 0; i < nq; ++i) corr[i] = q[i] - y[i];
+  evaluate_state_expressions(model_, ws_, t, q.data(), y + nq);
+  compute_position(model_, ws_, q.data());
+  compute_velocity(model_, ws_, y + nq);
+  compute_kinematic_derivatives(model_, ws_, q.data(), y + nq);
+  compute_constraints(model_, ws_, q.data(), y + nq);
+  const Eigen::MatrixXd A = ws_.constraint_matrix;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> codA(A);
+  const Eigen::VectorXd du = codA.solve(Eigen::VectorXd(ws_.velocity_residual));
+  for (int k = 0; k < nu; ++k) corr[nq + k] = -du[k];
+  if (!du.allFinite()) return 1;
+  if (err) {
+    // Project the error estimate onto the tangent space as well: e ← e − G⁺G e, e_u ← e_u − A⁺A e_u.
+    if (mh > 0) {
+      const Eigen::Map<Eigen::VectorXd> eq(err, nq);
+      const Eigen::VectorXd c = codG.solve(G * eq);
+      for (int i = 0; i < nq; ++i) err[i] -= c[i];
+    }
+    const Eigen::Map<Eigen::VectorXd> eu(err + nq, nu);
+    const Eigen::VectorXd c = codA.solve(A * eu);
+    for (int k = 0; k < nu; ++k) err[nq + k] -= c[k];
+  }
+  (void)m;
+  return 0;
+}
+
+void KaneProblem::multipliers(double t, const double* y, double* lambda) {
+  std::vector<double> ydot(static_cast<std::size_t>(model_.nstate()));
+  rhs(t, y, ydot.data());
+  for (int r = 0; r < model_.nconstraint_rows; ++r) lambda[r] = ws_.multipliers[r];
+}
+
+void KaneProblem::multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda) {
+  std::vector<double> sdot(static_cast<std::size_t>(model_.nstate()));
+  sensitivity_rhs(t, y, nullptr, i, s, sdot.data());
+  const Workspace<Dual>& ws = ws_sens_[i] ? *ws_sens_[i] : ws_jacobian_;
+  for (int r = 0; r < model_.nconstraint_rows; ++r) dlambda[r] = ws.multipliers[r].d;
+}
+
+void KaneProblem::constraint_residuals(double t, const double* y, double& position, double& velocity) {
+  std::vector<double> ydot(static_cast<std::size_t>(model_.nstate()));
+  rhs(t, y, ydot.data());
+  position = 0;
+  velocity = 0;
+  for (int r : holonomic_rows_) position = std::max(position, std::abs(ws_.position_residual[r]));
+  for (int r = 0; r < model_.nconstraint_rows; ++r) velocity = std::max(velocity, std::abs(ws_.velocity_residual[r]));
 }
 
 void KaneProblem::initial_state(double* y0) const {

@@ -8,11 +8,13 @@
 //   initial sensitivity i:  the tangent of y0(p) — q0/u0 expressions of parameters, explicit
 //                           initial values, and the normalisation of quaternions.
 #pragma once
+#include <Eigen/Dense>
 #include <memory>
 #include <vector>
 
 #include "ad/dual.hpp"
 #include "model/workspace.hpp"
+#include "sim/constraint_options.hpp"
 #include "sim/inputs.hpp"
 #include "solve/ode_problem.hpp"
 
@@ -20,7 +22,7 @@ namespace kanesens {
 
 class KaneProblem final : public solve::OdeProblem {
  public:
-  KaneProblem(const Model& model, std::vector<InputRef> sensitivities);
+  KaneProblem(const Model& model, std::vector<InputRef> sensitivities, ConstraintOptions constraints = {});
 
   // Loads one sample (parameters, initial conditions). Throws InputError if the parameters are
   // physically invalid (mass ≤ 0, ...).
@@ -40,14 +42,36 @@ class KaneProblem final : public solve::OdeProblem {
   double* dq_parameters() override { return dq_parameters_.data(); }
   std::vector<int> dq_parameter_list() const override;
 
+  bool has_projection() const override {
+    return model_.nconstraint_rows > 0 && options_.stabilization == ConstraintOptions::Stabilization::projection;
+  }
+  int project(double t, const double* y, double* corr, double eps_proj, double* err) override;
+
   // Total mechanical energy T + V at (t, y) with the current parameters.
   double energy(double t, const double* y);
+  // Multipliers λ (m) at (t, y), and their sensitivity dλ/dp_i (m) along the state sensitivity
+  // s_i (n): the chain rule through the augmented solve, by one dual evaluation.
+  void multipliers(double t, const double* y, double* lambda);
+  void multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda);
+  // Constraint residuals at (t, y): max |g| over holonomic rows, max |A u + a0| over all rows.
+  void constraint_residuals(double t, const double* y, double& position, double& velocity);
+  // Size of the correction that made the last sample's initial state consistent (max norms).
+  double initial_position_correction() const { return initial_dq_; }
+  double initial_velocity_correction() const { return initial_du_; }
   const Model& model() const { return model_; }
   const std::vector<InputRef>& sensitivities() const { return sens_; }
 
  private:
   void sync_dq_parameters();
   void initial_state_dual(int i, std::vector<Dual>& y0) const;
+  void make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& ws_params) const;
+  // Holonomic residual g (mh) and its Jacobian G = ∂g/∂q (mh × nq) at q (doubles).
+  void position_constraints(double t, const double* q, Eigen::VectorXd& g, Eigen::MatrixXd* G) const;
+
+  ConstraintOptions options_;
+  std::vector<int> holonomic_rows_;
+  mutable double initial_dq_ = 0, initial_du_ = 0;
+  std::unique_ptr<Workspace<Dual>> ws_project_;
 
   const Model& model_;
   std::vector<InputRef> sens_;

@@ -10,6 +10,11 @@ void resize_trajectory(Trajectory& traj, const KaneProblem& problem, std::size_t
   traj.states.assign(flags.states ? ntimes * n : 0, std::nan(""));
   traj.sensitivities.assign(flags.sensitivities ? ntimes * n * ns : 0, std::nan(""));
   traj.energy.assign(flags.energy ? ntimes : 0, std::nan(""));
+  const std::size_t m = static_cast<std::size_t>(problem.model().nconstraint_rows);
+  traj.multipliers.assign(flags.multipliers ? ntimes * m : 0, std::nan(""));
+  traj.multiplier_sensitivities.assign(flags.multipliers && flags.sensitivities ? ntimes * m * ns : 0, std::nan(""));
+  traj.position_residual.assign(flags.constraint_residual ? ntimes : 0, std::nan(""));
+  traj.velocity_residual.assign(flags.constraint_residual ? ntimes : 0, std::nan(""));
 }
 
 void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<const double> times,
@@ -24,6 +29,19 @@ void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<con
       for (std::size_t r = 0; r < n; ++r)
         for (std::size_t i = 0; i < ns; ++i) traj.sensitivities[(kk * n + r) * ns + i] = s[i][r];
     if (flags.energy) traj.energy[kk] = problem.energy(t, y);
+    const std::size_t m = static_cast<std::size_t>(problem.model().nconstraint_rows);
+    if (flags.multipliers && m > 0) {
+      problem.multipliers(t, y, &traj.multipliers[kk * m]);
+      if (flags.sensitivities && s) {
+        std::vector<double> dl(m);
+        for (std::size_t i = 0; i < ns; ++i) {
+          problem.multiplier_sensitivity(t, y, static_cast<int>(i), s[i], dl.data());
+          for (std::size_t r = 0; r < m; ++r) traj.multiplier_sensitivities[(kk * m + r) * ns + i] = dl[r];
+        }
+      }
+    }
+    if (flags.constraint_residual && m > 0)
+      problem.constraint_residuals(t, y, traj.position_residual[kk], traj.velocity_residual[kk]);
   });
 }
 

@@ -12,12 +12,16 @@ namespace kanesens {
 
 struct RecordFlags {
   bool states = true, sensitivities = true, energy = true;
+  bool multipliers = false, constraint_residual = false;  // only for scenes with constraints
 };
 
 struct Trajectory {
   std::vector<double> states;         // T × nstate
   std::vector<double> sensitivities;  // T × nstate × nsens
   std::vector<double> energy;         // T
+  std::vector<double> multipliers;    // T × m
+  std::vector<double> multiplier_sensitivities;  // T × m × nsens (with multipliers and sensitivities)
+  std::vector<double> position_residual, velocity_residual;  // T: max |g|, max |A u + a0|
   solve::IntegrationResult result;
 };
 

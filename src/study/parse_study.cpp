@@ -69,7 +69,7 @@ void parse_time(const YAML::Node& n, const std::string& file, StudySpec& st) {
     st.output_times.push_back(k == outputs - 1 ? end : start + (end - start) * static_cast<double>(k) / static_cast<double>(outputs - 1));
 }
 
-void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOptions& o) {
+void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOptions& o, ConstraintOptions& co) {
   const std::string key = "solver";
   check_keys(n, file, key, {"method", "iteration", "rtol", "atol", "max_steps", "max_order", "initial_step",
                             "max_step", "jacobian", "sensitivity", "constraints"});
@@ -108,8 +108,28 @@ void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOpt
                                                {{"exact", SensitivityRhs::exact}, {"dq", SensitivityRhs::dq}});
     if (s["atol"]) o.sens_atol = read_number(s["atol"], file, k2 + ".atol");
   }
-  if (n["constraints"])
-    fail(n["constraints"], file, key + ".constraints", "constraint settings need a scene with constraints, which this build does not support yet");
+  if (const YAML::Node c = n["constraints"]) {
+    const std::string k2 = key + ".constraints";
+    check_keys(c, file, k2, {"formulation", "stabilization", "alpha", "beta", "correct_initial"});
+    if (c["formulation"])
+      co.formulation = read_choice<ConstraintOptions::Formulation>(
+          c["formulation"], file, k2 + ".formulation",
+          {{"multipliers", ConstraintOptions::Formulation::multipliers}, {"embedding", ConstraintOptions::Formulation::embedding}});
+    if (co.formulation == ConstraintOptions::Formulation::embedding)
+      fail(c["formulation"], file, k2 + ".formulation", "'embedding' is not implemented yet; use 'multipliers'");
+    if (c["stabilization"])
+      co.stabilization = read_choice<ConstraintOptions::Stabilization>(
+          c["stabilization"], file, k2 + ".stabilization",
+          {{"none", ConstraintOptions::Stabilization::none}, {"baumgarte", ConstraintOptions::Stabilization::baumgarte},
+           {"projection", ConstraintOptions::Stabilization::projection}});
+    if (c["alpha"]) co.alpha = read_number(c["alpha"], file, k2 + ".alpha");
+    if (c["beta"]) co.beta = read_number(c["beta"], file, k2 + ".beta");
+    if (co.alpha < 0 || co.beta < 0) fail(c, file, k2, "alpha and beta must be >= 0");
+    if (c["correct_initial"]) co.correct_initial = read_bool(c["correct_initial"], file, k2 + ".correct_initial");
+  }
+  if (co.stabilization == ConstraintOptions::Stabilization::projection && o.method != solve::Method::bdf &&
+      n["constraints"])
+    fail(n, file, key, "constraint projection needs method: bdf (CVODES projects only with BDF); use stabilization: baumgarte with adams");
   try {
     o.validate();
   } catch (const std::invalid_argument& e) {
@@ -175,7 +195,7 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
     st.scene = parse_scene_node(scene, path, st.text);
   }
   parse_time(required(doc, "time", path, ""), path, st);
-  if (doc["solver"]) parse_solver(doc["solver"], path, st.solver);
+  if (doc["solver"]) parse_solver(doc["solver"], path, st.solver, st.constraints);
   if (const YAML::Node s = doc["sensitivities"]; s && !s.IsNull()) {
     require_sequence(s, path, "sensitivities");
     for (std::size_t i = 0; i < s.size(); ++i)

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "scene/scene_spec.hpp"
+#include "sim/constraint_options.hpp"
 #include "solve/solver_options.hpp"
 
 namespace kanesens {
@@ -19,6 +20,7 @@ struct StudySpec {
   SceneSpec scene;
   std::vector<double> output_times;  // strictly increasing; output 0 is the initial state
   solve::SolverOptions solver;
+  ConstraintOptions constraints;
   std::vector<std::string> sensitivities;  // parameter or initial-condition names
   std::set<std::string> record;  // states, sensitivities, multipliers, energy, constraint_residual
   YAML::Node sampling, vary;     // the `sampling:` and `vary:` maps (may be null)
