@@ -9,5 +9,6 @@ using Action = std::function<int()>;
 
 CLI::App* add_check(CLI::App& app, Action& action);
 CLI::App* add_eom(CLI::App& app, Action& action);
+CLI::App* add_bench(CLI::App& app, Action& action);
 
 }  // namespace kanesens::cli

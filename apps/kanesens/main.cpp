@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
   bool show_version = false;
   app.add_flag("--version", show_version, "Print versions of kanesens and the libraries it was built with");
   kanesens::cli::Action action;
-  std::vector<CLI::App*> subs = {kanesens::cli::add_check(app, action), kanesens::cli::add_eom(app, action)};
+  std::vector<CLI::App*> subs = {kanesens::cli::add_check(app, action), kanesens::cli::add_eom(app, action), kanesens::cli::add_bench(app, action)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
