@@ -27,6 +27,8 @@ struct BenchOptions {
   double batch_seconds = 2e-3;
   unsigned seed = 1;
   bool json = false;
+  bool general_3d = false;  // evaluate a planar scene with the 3-D code (Model::force_general_3d)
+  long long profile = 0;  // > 0: exactly this many untimed evaluations of each kind (profilers)
 };
 
 struct Timing {
@@ -41,6 +43,10 @@ struct Timing {
 template <class F>
 Timing time_it(const std::string& name, const BenchOptions& o, F&& f) {
   using clock = std::chrono::steady_clock;
+  if (o.profile > 0) {
+    for (long long i = 0; i < o.profile; ++i) f();
+    return Timing{name, 0, 0, o.profile, 0};
+  }
   auto run = [&](long long n) {
     const auto t0 = clock::now();
     for (long long i = 0; i < n; ++i) f();
@@ -67,7 +73,8 @@ Timing time_it(const std::string& name, const BenchOptions& o, F&& f) {
 
 int run_bench_rhs(const BenchOptions& o) {
   if (o.repeat < 1) throw InputError({}, "--repeat", "must be at least 1");
-  const Model m = build_model(parse_scene_file(o.scene));
+  Model m = build_model(parse_scene_file(o.scene));
+  m.force_general_3d = o.general_3d;
   const std::vector<double> p = m.nominal_parameters();
 
   // A random fixed state: q, u uniform in [-1, 1], quaternions normalised.
@@ -123,6 +130,8 @@ int run_bench_rhs(const BenchOptions& o) {
     j.key("nbody").value(m.nbody());
     j.key("nq").value(m.nq);
     j.key("nu").value(m.nu);
+    j.key("planar_scene").value(m.planar);
+    j.key("path").value(m.evaluate_planar() ? "planar" : "3d");
     j.key("seed").value(static_cast<long long>(o.seed));
     j.key("repeat").value(o.repeat);
     for (const Timing& t : timings) {
@@ -139,7 +148,8 @@ int run_bench_rhs(const BenchOptions& o) {
     std::cout << "\n";
   } else {
     std::cout << "scene '" << m.name << "': " << m.nbody() << " bodies, nq = " << m.nq << ", nu = " << m.nu
-              << " (median of " << o.repeat << " batches)\n";
+              << ", " << (m.evaluate_planar() ? "planar" : "3-D") << " evaluation (median of " << o.repeat
+              << " batches)\n";
     for (const Timing& t : timings) {
       char line[160];
       std::snprintf(line, sizeof line, "  %-24s %12.1f ns  %12.0f evaluations/s\n", t.name.c_str(), t.median_ns,
@@ -162,6 +172,9 @@ CLI::App* add_bench(CLI::App& app, Action& action) {
   rhs->add_option("--batch-seconds", o->batch_seconds, "Minimum duration of one batch, s");
   rhs->add_option("--seed", o->seed, "Seed of the random state");
   rhs->add_flag("--json", o->json, "Print JSON");
+  rhs->add_flag("--general-3d", o->general_3d, "Evaluate a planar scene with the general 3-D code");
+  rhs->add_option("--profile", o->profile,
+                  "Run exactly N untimed evaluations of each kind (for callgrind: instructions / N)");
   rhs->callback([&action, o] { action = [o] { return run_bench_rhs(*o); }; });
   return cmd;
 }

@@ -68,6 +68,7 @@ class Builder {
     build_joint_expressions();
     build_forces();
     for (int i = 0; i < 3; ++i) m_.gravity[i] = add(spec_.gravity[i], false);
+    m_.planar = is_planar();
     check_nominal();
     return std::move(m_);
   }
@@ -409,6 +410,31 @@ class Builder {
       }
       m_.forces.push_back(f);
     }
+  }
+
+  // Model::planar's criterion, on the expressions (not the nominal values), so that it holds for
+  // every parameter set.
+  bool is_planar() const {
+    auto constant = [&](Slot s, double v) {
+      return m_.expressions[s].is_constant() && m_.expressions[s].constant_value() == v;
+    };
+    auto nonzero_constant = [&](Slot s) {
+      return m_.expressions[s].is_constant() && m_.expressions[s].constant_value() != 0;
+    };
+    for (const Joint& j : m_.joints) {
+      switch (j.type) {
+        case JointType::revolute:
+        case JointType::planar:
+          if (!(constant(j.axis[0], 0) && constant(j.axis[1], 0) && nonzero_constant(j.axis[2]))) return false;
+          break;
+        case JointType::prismatic:
+          if (!constant(j.axis[2], 0)) return false;
+          break;
+        case JointType::weld: break;
+        default: return false;
+      }
+    }
+    return true;
   }
 
   void check_nominal() {

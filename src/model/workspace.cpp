@@ -30,7 +30,14 @@ Workspace<S>::Workspace(const Model& m)
       forcing(m.nu),
       cholesky(m.nu, m.nu),
       udot(m.nu),
-      qdot(m.nq) {
+      qdot(m.nq),
+      partial_planar(m.nu),
+      inertia_planar(m.nbody()),
+      composite_planar(m.nbody()),
+      velocity_planar(m.nbody()),
+      bias_planar(m.nbody()),
+      wrench_planar(m.nbody()),
+      prefix(7) {
   for (Slot s : m.parameter_slots)
     if (m.expressions[s].is_constant()) values[s] = S(m.expressions[s].constant_value());
 }
