@@ -55,43 +55,48 @@ void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
   detail::add_joint_spring_dampers(m, ws, q, u);
 }
 
+namespace {
+// Σ a_i b_i over contiguous arrays; Eigen uses SIMD packets for double (the order of the
+// additions differs from a plain loop by round-off only).
+template <class S>
+S dot(const S* a, const S* b, int n) {
+  if (n == 0) return S(0);
+  return Eigen::Map<const VecX<S>>(a, n).dot(Eigen::Map<const VecX<S>>(b, n));
+}
+}  // namespace
+
 template <class S>
 bool solve_accelerations(const Model& m, Workspace<S>& ws) {
-  // Left-looking Cholesky M = L Lᵀ, column by column, so that every inner loop runs down a
-  // contiguous column of the column-major L: L(j:n, j) = M(j:n, j) − Σ_{k<j} L(j, k) L(j:n, k),
-  // then scaled by 1/√L(j, j). Golub & Van Loan 2013, Alg. 4.2.2 (gaxpy Cholesky).
+  // Cholesky M = Uᵀ U, U upper (ws.cholesky), by dot products down contiguous columns of the
+  // column-major U: U(j, i) = (M(j, i) − Σ_{k<j} U(k, j) U(k, i)) / U(j, j) (Golub & Van Loan
+  // 2013, Alg. 4.2.1, transposed).
   const int n = m.nu;
-  S* L = ws.cholesky.data();
+  S* U = ws.cholesky.data();
   const S* M = ws.mass_matrix.data();
+  auto col = [n](auto* base, int j) { return base + static_cast<std::ptrdiff_t>(j) * n; };
   using std::sqrt;
   for (int j = 0; j < n; ++j) {
-    S* Lj = L + static_cast<std::ptrdiff_t>(j) * n;
-    for (int i = j; i < n; ++i) Lj[i] = M[static_cast<std::ptrdiff_t>(j) * n + i];
-    for (int k = 0; k < j; ++k) {
-      const S* Lk = L + static_cast<std::ptrdiff_t>(k) * n;
-      const S a = Lk[j];
-      for (int i = j; i < n; ++i) Lj[i] -= a * Lk[i];
+    S* Uj = col(U, j);
+    const S d = col(M, j)[j] - dot(Uj, Uj, j);
+    if (!(value_of(d) > 0)) return false;
+    Uj[j] = sqrt(d);
+    const S inv = S(1) / Uj[j];
+    for (int i = j + 1; i < n; ++i) {
+      S* Ui = col(U, i);
+      Ui[j] = (col(M, i)[j] - dot(Uj, Ui, j)) * inv;
     }
-    if (!(value_of(Lj[j]) > 0)) return false;
-    const S d = sqrt(Lj[j]);
-    Lj[j] = d;
-    const S inv = S(1) / d;
-    for (int i = j + 1; i < n; ++i) Lj[i] *= inv;
   }
-  // L y = f by columns (axpy), then Lᵀ x = y by dot products down the columns.
+  // Uᵀ y = f by dot products down the columns, then U x = y by column axpys.
   S* x = ws.udot.data();
-  for (int i = 0; i < n; ++i) x[i] = ws.forcing[i];
-  for (int j = 0; j < n; ++j) {
-    const S* Lj = L + static_cast<std::ptrdiff_t>(j) * n;
-    x[j] /= Lj[j];
-    const S xj = x[j];
-    for (int i = j + 1; i < n; ++i) x[i] -= xj * Lj[i];
+  for (int i = 0; i < n; ++i) {
+    const S* Ui = col(U, i);
+    x[i] = (ws.forcing[i] - dot(Ui, x, i)) / Ui[i];
   }
   for (int i = n - 1; i >= 0; --i) {
-    const S* Li = L + static_cast<std::ptrdiff_t>(i) * n;
-    S s = x[i];
-    for (int k = i + 1; k < n; ++k) s -= Li[k] * x[k];
-    x[i] = s / Li[i];
+    const S* Ui = col(U, i);
+    x[i] /= Ui[i];
+    const S xi = x[i];
+    Eigen::Map<VecX<S>>(x, i) -= xi * Eigen::Map<const VecX<S>>(Ui, i);
   }
   return true;
 }

@@ -41,7 +41,7 @@ struct Workspace {
                                    //     summed over the subtree
   MatX<S> mass_matrix;             // nu×nu
   VecX<S> forcing;                 // nu
-  MatX<S> cholesky;                // nu×nu, lower factor L of mass_matrix = L Lᵀ (lower triangle)
+  MatX<S> cholesky;                // nu×nu: upper triangle = U, mass_matrix = Uᵀ U (U = Lᵀ)
   VecX<S> udot;                    // nu
   VecX<S> qdot;                    // nq
   S time = S(0);
