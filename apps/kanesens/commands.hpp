@@ -11,5 +11,6 @@ CLI::App* add_check(CLI::App& app, Action& action);
 CLI::App* add_eom(CLI::App& app, Action& action);
 CLI::App* add_simulate(CLI::App& app, Action& action);
 CLI::App* add_run(CLI::App& app, Action& action);
+CLI::App* add_bench(CLI::App& app, Action& action);
 
 }  // namespace kanesens::cli

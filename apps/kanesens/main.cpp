@@ -15,7 +15,8 @@ int main(int argc, char** argv) {
   kanesens::cli::Action action;
   std::vector<CLI::App*> subs = {kanesens::cli::add_check(app, action), kanesens::cli::add_eom(app, action),
                                 kanesens::cli::add_simulate(app, action),
-                                kanesens::cli::add_run(app, action)};
+                                kanesens::cli::add_run(app, action),
+                                kanesens::cli::add_bench(app, action)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -7,6 +7,7 @@
 
 #include "ad/dual.hpp"
 #include "kane/equations.hpp"
+#include "kane/planar.hpp"
 
 namespace kanesens {
 namespace {
@@ -119,6 +120,19 @@ void general_velocity(const Model& m, Workspace<S>& ws, const Constraint& c, int
 template <class S>
 void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
   using std::sqrt;
+  if (m.evaluate_planar()) {
+    // The planar path keeps (ω_z, v_x, v_y); constraints read the 6-D partial velocities and
+    // bias accelerations, whose other components are zero in a planar motion.
+    auto lift = [](const PVec<S>& p) {
+      Vec6<S> v = Vec6<S>::Zero();
+      v[2] = p[0];
+      v[3] = p[1];
+      v[4] = p[2];
+      return v;
+    };
+    for (int k = 0; k < m.nu; ++k) ws.partial[k] = lift(ws.partial_planar[k]);
+    for (int b = 0; b < m.nbody(); ++b) ws.bias_acceleration[b] = lift(ws.bias_planar[b]);
+  }
   for (const Constraint& c : m.constraints) {
     const int r0 = c.row_offset;
     switch (c.kind) {
@@ -202,18 +216,18 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
   }
 }
 
-// x ← (L Lᵀ)⁻¹ x with L the lower Cholesky factor of M in ws.cholesky.
+// x ← (Uᵀ U)⁻¹ x with U the upper Cholesky factor of M in ws.cholesky.
 template <class S>
-static void cholesky_solve(const MatX<S>& L, int n, S* x) {
+static void cholesky_solve(const MatX<S>& U, int n, S* x) {
   for (int i = 0; i < n; ++i) {
     S s = x[i];
-    for (int k = 0; k < i; ++k) s -= L(i, k) * x[k];
-    x[i] = s / L(i, i);
+    for (int k = 0; k < i; ++k) s -= U(k, i) * x[k];
+    x[i] = s / U(i, i);
   }
   for (int i = n - 1; i >= 0; --i) {
     S s = x[i];
-    for (int k = i + 1; k < n; ++k) s -= L(k, i) * x[k];
-    x[i] = s / L(i, i);
+    for (int k = i + 1; k < n; ++k) s -= U(i, k) * x[k];
+    x[i] = s / U(i, i);
   }
 }
 

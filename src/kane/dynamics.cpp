@@ -3,31 +3,14 @@
 
 #include "ad/dual.hpp"
 #include "kane/equations.hpp"
+#include "kane/force_elements.hpp"
+#include "kane/planar_stages.hpp"
 
 namespace kanesens {
-namespace {
-
-template <class S>
-Vec3<S> vec3(const Workspace<S>& ws, const Slot3& s) {
-  return {ws.values[s[0]], ws.values[s[1]], ws.values[s[2]]};
-}
-
-// World position and velocity of a point given in body b's frame (b = -1: ground).
-template <class S>
-void point_state(const Workspace<S>& ws, int b, const Vec3<S>& r, Vec3<S>& p, Vec3<S>& v) {
-  if (b < 0) {
-    p = r;
-    v.setZero();
-    return;
-  }
-  p = ws.com[b] + ws.R[b] * r;
-  v = ws.velocity[b].template tail<3>() + ws.velocity[b].template head<3>().cross(p);
-}
-
-}  // namespace
 
 template <class S>
 void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
+  if (m.evaluate_planar()) return detail::compute_mass_matrix_planar(m, ws);
   const int nb = m.nbody();
   for (int b = 0; b < nb; ++b) ws.composite_inertia[b] = ws.spatial_inertia[b];
   for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
@@ -50,88 +33,70 @@ void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
 
 template <class S>
 void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
-  const int nb = m.nbody();
-  // Applied minus inertial wrench of each body at O: gravity, then −(I A₀ + V ×* I V).
-  for (int b = 0; b < nb; ++b) {
-    const Vec6<S>& V = ws.velocity[b];
-    const Mat6<S>& I = ws.spatial_inertia[b];
-    ws.wrench[b] = wrench_at_origin<S>(ws.com[b], ws.mass[b] * ws.gravity) -
-                   (I * ws.bias_acceleration[b] + cross_force<S>(V, I * V));
-  }
-  for (const Force& f : m.forces) {
-    switch (f.kind) {
-      case Force::Kind::spring_damper: {
-        Vec3<S> pa, va, pb, vb;
-        point_state(ws, f.body_a, vec3(ws, f.point_a), pa, va);
-        point_state(ws, f.body_b, vec3(ws, f.point_b), pb, vb);
-        const Vec3<S> d = pb - pa;
-        using std::sqrt;
-        const S L = sqrt(d.squaredNorm());
-        if (!(value_of(L) > 0)) break;  // coincident points: direction undefined, no force
-        const Vec3<S> e = d / L;
-        const S Ldot = e.dot(vb - va);
-        const S tension = ws.values[f.k] * (L - ws.values[f.rest]) + ws.values[f.c] * Ldot;
-        const Vec3<S> Fa = tension * e;
-        if (f.body_a >= 0) ws.wrench[f.body_a] += wrench_at_origin<S>(pa, Fa);
-        if (f.body_b >= 0) ws.wrench[f.body_b] -= wrench_at_origin<S>(pb, Fa);
-        break;
-      }
-      case Force::Kind::force: {
-        const int b = f.body;
-        Vec3<S> F = vec3(ws, f.vector);
-        if (f.body_frame) F = ws.R[b] * F;
-        const Vec3<S> p = ws.com[b] + ws.R[b] * vec3(ws, f.point);
-        ws.wrench[b] += wrench_at_origin<S>(p, F);
-        break;
-      }
-      case Force::Kind::torque: {
-        const int b = f.body;
-        Vec3<S> T = vec3(ws, f.vector);
-        if (f.body_frame) T = ws.R[b] * T;
-        ws.wrench[b].template head<3>() += T;
-        break;
-      }
+  if (m.evaluate_planar()) {
+    detail::compute_forcing_planar(m, ws);
+  } else {
+    const int nb = m.nbody();
+    // Applied minus inertial wrench of each body at O: gravity, then −(I A₀ + V ×* I V).
+    for (int b = 0; b < nb; ++b) {
+      const Vec6<S>& V = ws.velocity[b];
+      const SpatialInertia<S>& I = ws.spatial_inertia[b];
+      ws.wrench[b] = wrench_at_origin<S>(ws.com[b], ws.mass[b] * ws.gravity) -
+                     (I * ws.bias_acceleration[b] + cross_force<S>(V, I * V));
     }
+    detail::for_each_force_element(m, ws, [&](int b, const Vec6<S>& w) { ws.wrench[b] += w; });
+    for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
+      const Joint& J = m.joints[*it];
+      if (J.parent >= 0) ws.wrench[J.parent] += ws.wrench[J.child];
+    }
+    for (const Joint& J : m.joints)
+      for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) ws.forcing[k] = ws.partial[k].dot(ws.wrench[J.child]);
   }
-  for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
-    const Joint& J = m.joints[*it];
-    if (J.parent >= 0) ws.wrench[J.parent] += ws.wrench[J.child];
-  }
-  for (const Joint& J : m.joints) {
-    for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) ws.forcing[k] = ws.partial[k].dot(ws.wrench[J.child]);
-    if (J.spring_k >= 0)
-      ws.forcing[J.u_offset] -= ws.values[J.spring_k] * (q[J.q_offset] - ws.values[J.spring_rest]);
-    if (J.damper_c >= 0) ws.forcing[J.u_offset] -= ws.values[J.damper_c] * u[J.u_offset];
-  }
+  detail::add_joint_spring_dampers(m, ws, q, u);
 }
+
+namespace {
+// Σ a_i b_i over contiguous arrays; Eigen uses SIMD packets for double (the order of the
+// additions differs from a plain loop by round-off only).
+template <class S>
+S dot(const S* a, const S* b, int n) {
+  if (n == 0) return S(0);
+  return Eigen::Map<const VecX<S>>(a, n).dot(Eigen::Map<const VecX<S>>(b, n));
+}
+}  // namespace
 
 template <class S>
 bool solve_accelerations(const Model& m, Workspace<S>& ws) {
-  // In-place Cholesky M = L Lᵀ (lower triangle of ws.cholesky), then two triangular solves.
+  // Cholesky M = Uᵀ U, U upper (ws.cholesky), by dot products down contiguous columns of the
+  // column-major U: U(j, i) = (M(j, i) − Σ_{k<j} U(k, j) U(k, i)) / U(j, j) (Golub & Van Loan
+  // 2013, Alg. 4.2.1, transposed).
   const int n = m.nu;
-  auto& L = ws.cholesky;
+  S* U = ws.cholesky.data();
+  const S* M = ws.mass_matrix.data();
+  auto col = [n](auto* base, int j) { return base + static_cast<std::ptrdiff_t>(j) * n; };
   using std::sqrt;
   for (int j = 0; j < n; ++j) {
-    S d = ws.mass_matrix(j, j);
-    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    S* Uj = col(U, j);
+    const S d = col(M, j)[j] - dot(Uj, Uj, j);
     if (!(value_of(d) > 0)) return false;
-    L(j, j) = sqrt(d);
+    Uj[j] = sqrt(d);
+    const S inv = S(1) / Uj[j];
     for (int i = j + 1; i < n; ++i) {
-      S s = ws.mass_matrix(i, j);
-      for (int k = 0; k < j; ++k) s -= L(i, k) * L(j, k);
-      L(i, j) = s / L(j, j);
+      S* Ui = col(U, i);
+      Ui[j] = (col(M, i)[j] - dot(Uj, Ui, j)) * inv;
     }
   }
-  auto& x = ws.udot;
+  // Uᵀ y = f by dot products down the columns, then U x = y by column axpys.
+  S* x = ws.udot.data();
   for (int i = 0; i < n; ++i) {
-    S s = ws.forcing[i];
-    for (int k = 0; k < i; ++k) s -= L(i, k) * x[k];
-    x[i] = s / L(i, i);
+    const S* Ui = col(U, i);
+    x[i] = (ws.forcing[i] - dot(Ui, x, i)) / Ui[i];
   }
   for (int i = n - 1; i >= 0; --i) {
-    S s = x[i];
-    for (int k = i + 1; k < n; ++k) s -= L(k, i) * x[k];
-    x[i] = s / L(i, i);
+    const S* Ui = col(U, i);
+    x[i] /= Ui[i];
+    const S xi = x[i];
+    Eigen::Map<VecX<S>>(x, i) -= xi * Eigen::Map<const VecX<S>>(Ui, i);
   }
   return true;
 }
@@ -164,6 +129,11 @@ bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* y
 template <class S>
 S kinetic_energy(const Model& m, const Workspace<S>& ws) {
   S T = S(0);
+  if (m.evaluate_planar()) {
+    for (int b = 0; b < m.nbody(); ++b)
+      T += S(0.5) * ws.velocity_planar[b].dot(ws.inertia_planar[b] * ws.velocity_planar[b]);
+    return T;
+  }
   for (int b = 0; b < m.nbody(); ++b) T += S(0.5) * ws.velocity[b].dot(ws.spatial_inertia[b] * ws.velocity[b]);
   return T;
 }
@@ -180,8 +150,8 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
   for (const Force& f : m.forces) {
     if (f.kind != Force::Kind::spring_damper) continue;
     Vec3<S> pa, va, pb, vb;
-    point_state(ws, f.body_a, vec3(ws, f.point_a), pa, va);
-    point_state(ws, f.body_b, vec3(ws, f.point_b), pb, vb);
+    detail::point_state(ws, f.body_a, detail::slot_vec3(ws, f.point_a), pa, va);
+    detail::point_state(ws, f.body_b, detail::slot_vec3(ws, f.point_b), pb, vb);
     using std::sqrt;
     const S x = sqrt((pb - pa).squaredNorm()) - ws.values[f.rest];
     V += S(0.5) * ws.values[f.k] * x * x;

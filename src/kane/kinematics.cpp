@@ -1,6 +1,7 @@
 // Position and velocity stages of Kane's equations (see kane/equations.hpp).
 #include "ad/dual.hpp"
 #include "kane/equations.hpp"
+#include "kane/planar_stages.hpp"
 
 namespace kanesens {
 
@@ -17,6 +18,7 @@ void evaluate_state_expressions(const Model& m, Workspace<S>& ws, const S& t, co
 
 template <class S>
 void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
+  if (m.evaluate_planar()) return detail::compute_position_planar(m, ws, q);
   for (int ji : m.joint_order) {
     const Joint& J = m.joints[ji];
     const int P = J.parent, C = J.child;
@@ -77,29 +79,33 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
         s.template tail<3>() = dir;
       }
     }
-    ws.inertia_world[C] = ws.R[C] * ws.inertia_body[C] * ws.R[C].transpose();
-    ws.spatial_inertia[C] = spatial_inertia<S>(ws.mass[C], ws.com[C], ws.inertia_world[C]);
+    ws.spatial_inertia[C] =
+        body_spatial_inertia<S>(ws.mass[C], ws.com[C], ws.R[C], ws.inertia_body[C], ws.inertia_world[C]);
   }
 }
 
 template <class S>
 void compute_velocity(const Model& m, Workspace<S>& ws, const S* u) {
+  if (m.evaluate_planar()) return detail::compute_velocity_planar(m, ws, u);
   for (int ji : m.joint_order) {
     const Joint& J = m.joints[ji];
     const int P = J.parent, C = J.child;
-    const Vec6<S> V_P = P >= 0 ? ws.velocity[P] : Vec6<S>::Zero();
-    Vec6<S> A = P >= 0 ? ws.bias_acceleration[P] : Vec6<S>::Zero();
-    Vec6<S> V = V_P;
-    for (int k = 0; k < J.nu; ++k) V += ws.partial[J.u_offset + k] * u[J.u_offset + k];
+    // prefix[c] = V_P + Σ_{k<c} s_k u_k; prefix[nu] is the child's velocity.
+    Vec6<S>* prefix = ws.prefix.data();
+    Vec6<S> A;
+    if (P >= 0) {
+      prefix[0] = ws.velocity[P];
+      A = ws.bias_acceleration[P];
+    } else {
+      prefix[0].setZero();
+      A.setZero();
+    }
+    for (int k = 0; k < J.nu; ++k) prefix[k + 1] = prefix[k] + ws.partial[J.u_offset + k] * u[J.u_offset + k];
     // d/dt s_k = V_F × s_k, F the frame carrying axis k: the parent, moved by the first
     // `carriers` speeds of this joint (universal, planar rotation) or the child (ball, free).
-    for (int k = 0; k < J.nu; ++k) {
-      const int carriers = J.speeds[k].carriers;
-      Vec6<S> V_F = V_P;
-      for (int c = 0; c < carriers; ++c) V_F += ws.partial[J.u_offset + c] * u[J.u_offset + c];
-      A += cross_motion<S>(V_F, ws.partial[J.u_offset + k]) * u[J.u_offset + k];
-    }
-    ws.velocity[C] = V;
+    for (int k = 0; k < J.nu; ++k)
+      A += cross_motion<S>(prefix[J.speeds[k].carriers], ws.partial[J.u_offset + k]) * u[J.u_offset + k];
+    ws.velocity[C] = prefix[J.nu];
     ws.bias_acceleration[C] = A;
   }
 }

@@ -84,6 +84,64 @@ Mat6<S> spatial_inertia(const S& m, const Vec3<S>& c, const Mat3<S>& I) {
   return M;
 }
 
+// Spatial inertia at O in compact form (Featherstone 2008 §2.13): mass m, first moment h = m c
+// (c the mass center, world) and rotational inertia about O, I = I_c + m (|c|² 1 − c cᵀ)
+// (world, symmetric). The same operator as spatial_inertia()'s 6×6 matrix, but sums (composite
+// inertias) cost 13 additions and applying one to a motion vector 24 multiplications, not 36.
+template <class S>
+struct SpatialInertia {
+  S m = S(0);
+  Vec3<S> h = Vec3<S>::Zero();
+  Mat3<S> I = Mat3<S>::Zero();
+
+  SpatialInertia& operator+=(const SpatialInertia& o) {
+    m += o.m;
+    h += o.h;
+    I += o.I;
+    return *this;
+  }
+  // (ω, v_O) ↦ (I ω + h × v_O, m v_O − h × ω): angular momentum about O and linear momentum.
+  Vec6<S> operator*(const Vec6<S>& x) const {
+    const Vec3<S> w = x.template head<3>(), v = x.template tail<3>();
+    Vec6<S> r;
+    r.template head<3>() = I * w + h.cross(v);
+    r.template tail<3>() = m * v - h.cross(w);
+    return r;
+  }
+  Mat6<S> matrix() const {  // the 6×6 form (tests)
+    const Mat3<S> H = skew<S>(h);
+    Mat6<S> M;
+    M << I, H, -H, m * Mat3<S>::Identity();
+    return M;
+  }
+};
+
+// Compact spatial inertia of a body of mass m, mass center c (world), rotation R (body → world)
+// and central inertia I_b (body frame): I_c = R I_b Rᵀ (only its 6 distinct entries are formed),
+// then the parallel-axis shift to O. `inertia_world` receives I_c.
+template <class S>
+SpatialInertia<S> body_spatial_inertia(const S& m, const Vec3<S>& c, const Mat3<S>& R, const Mat3<S>& I_b,
+                                       Mat3<S>& inertia_world) {
+  const Mat3<S> T = R * I_b;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      const S x = T(i, 0) * R(j, 0) + T(i, 1) * R(j, 1) + T(i, 2) * R(j, 2);
+      inertia_world(i, j) = x;
+      inertia_world(j, i) = x;
+    }
+  SpatialInertia<S> X;
+  X.m = m;
+  X.h = m * c;
+  const S hc = X.h.dot(c);
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      const S x = inertia_world(i, j) - X.h[i] * c[j] + (i == j ? hc : S(0));
+      X.I(i, j) = x;
+      X.I(j, i) = x;
+    }
+  return X;
+}
+
 // A force F applied at point r (world), as a force vector at O.
 template <class S>
 Vec6<S> wrench_at_origin(const Vec3<S>& r, const Vec3<S>& F) {

@@ -68,6 +68,7 @@ class Builder {
     build_joint_expressions();
     build_forces();
     for (int i = 0; i < 3; ++i) m_.gravity[i] = add(spec_.gravity[i], false);
+    m_.planar = is_planar();
     build_constraints();
     check_nominal();
     return std::move(m_);
@@ -416,21 +417,24 @@ class Builder {
     }
   }
 
-  // A scene whose rotations are all about z and translations all in xy moves in the xy plane:
-  // a coincident constraint there has 2 rows (the z row would be identically zero).
-  bool planar_xy() const {
-    const std::vector<double> p = m_.nominal_parameters();
-    Workspace<double> ws(m_);
-    set_parameters(m_, ws, p.data());
-    for (std::size_t j = 0; j < m_.joints.size(); ++j) {
-      const Joint& J = m_.joints[j];
-      const Eigen::Vector3d a = ws.joint_axis[j];
-      const bool along_z = std::abs(std::abs(a.z()) - 1) < 1e-12;
-      const bool in_xy = std::abs(a.z()) < 1e-12;
-      switch (J.type) {
-        case JointType::revolute: if (!along_z) return false; break;
-        case JointType::prismatic: if (!in_xy) return false; break;
-        case JointType::planar: if (!along_z) return false; break;
+  // Model::planar's criterion, on the expressions (not the nominal values), so that it holds for
+  // every parameter set.
+  bool is_planar() const {
+    auto constant = [&](Slot s, double v) {
+      return m_.expressions[s].is_constant() && m_.expressions[s].constant_value() == v;
+    };
+    auto nonzero_constant = [&](Slot s) {
+      return m_.expressions[s].is_constant() && m_.expressions[s].constant_value() != 0;
+    };
+    for (const Joint& j : m_.joints) {
+      switch (j.type) {
+        case JointType::revolute:
+        case JointType::planar:
+          if (!(constant(j.axis[0], 0) && constant(j.axis[1], 0) && nonzero_constant(j.axis[2]))) return false;
+          break;
+        case JointType::prismatic:
+          if (!constant(j.axis[2], 0)) return false;
+          break;
         case JointType::weld: break;
         default: return false;
       }
@@ -449,7 +453,7 @@ class Builder {
 
   void build_constraints() {
     std::set<std::string> seen;
-    const bool planar = planar_xy();
+    const bool planar = m_.planar;  // rotations about z only: coincident rows x, y
     int row = 0;
     for (std::size_t ci = 0; ci < spec_.constraints.size(); ++ci) {
       const ConstraintSpec& cs = spec_.constraints[ci];

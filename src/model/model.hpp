@@ -127,6 +127,17 @@ struct Model {
   std::vector<expr::Expression> expressions;
   std::vector<Slot> parameter_slots, state_slots;
   bool has_quaternions = false;
+  // Planar scene: every joint's motion keeps bodies in planes parallel to the world x–y plane,
+  // whatever the parameters: revolute axes and planar-joint normals are constant ±z, prismatic
+  // axes have a constant zero z component, welds are allowed, other joint types are not. (At
+  // q = 0 frames are parallel, so every body then rotates about z only.) Points, gravity, forces
+  // and inertias may be anything: a planar motion's power sees only ω_z, v_x, v_y and τ_z, F_x,
+  // F_y, so out-of-plane components cannot change M or f. Planar scenes are evaluated with
+  // 3-component spatial vectors (kane/planar.hpp): a planar scene pays planar work (DESIGN §2).
+  bool planar = false;
+  // Evaluate with the general 3-D code even when `planar` (tests and benchmarks compare both).
+  bool force_general_3d = false;
+  bool evaluate_planar() const { return planar && !force_general_3d; }
 
   int nbody() const { return static_cast<int>(bodies.size()); }
   int nstate() const { return nq + nu; }

@@ -43,7 +43,15 @@ Workspace<S>::Workspace(const Model& m)
       nullspace(m.nconstraint_rows, m.nconstraint_rows),
       scratch_m(m.nconstraint_rows),
       scratch_nu(m.nu),
-      schur_pivots(m.nconstraint_rows) {
+      schur_pivots(m.nconstraint_rows),
+
+      partial_planar(m.nu),
+      inertia_planar(m.nbody()),
+      composite_planar(m.nbody()),
+      velocity_planar(m.nbody()),
+      bias_planar(m.nbody()),
+      wrench_planar(m.nbody()),
+      prefix(7) {
   for (Slot s : m.parameter_slots)
     if (m.expressions[s].is_constant()) values[s] = S(m.expressions[s].constant_value());
 }

@@ -4,6 +4,7 @@
 #pragma once
 #include <vector>
 
+#include "kane/planar.hpp"
 #include "kane/spatial.hpp"
 #include "model/model.hpp"
 
@@ -27,20 +28,20 @@ struct Workspace {
   std::vector<Vec3<S>> com;      // nb: mass-center position, world
   std::vector<Vec3<S>> joint_point;  // nj: joint point Q (on the child), world
   std::vector<Vec6<S>> partial;  // nu: spatial partial velocity of each speed, (Ω_k, L_k + Q×Ω_k)
-  std::vector<Mat3<S>> inertia_world;  // nb
-  std::vector<Mat6<S>> spatial_inertia;  // nb, at O
+  std::vector<Mat3<S>> inertia_world;  // nb, central (3-D evaluation only)
+  std::vector<SpatialInertia<S>> spatial_inertia;  // nb, at O (3-D evaluation only)
 
   // Velocity stage (u).
   std::vector<Vec6<S>> velocity;   // nb: spatial velocity (ω, v_O)
   std::vector<Vec6<S>> bias_acceleration;  // nb: spatial acceleration with u̇ = 0
 
   // Dynamics.
-  std::vector<Mat6<S>> composite_inertia;  // nb: subtree spatial inertia at O
+  std::vector<SpatialInertia<S>> composite_inertia;  // nb: subtree spatial inertia at O (3-D)
   std::vector<Vec6<S>> wrench;     // nb: applied minus inertial (u̇ = 0) force vector at O, then
                                    //     summed over the subtree
   MatX<S> mass_matrix;             // nu×nu
   VecX<S> forcing;                 // nu
-  MatX<S> cholesky;                // nu×nu, lower factor of mass_matrix
+  MatX<S> cholesky;                // nu×nu: upper triangle = U, mass_matrix = Uᵀ U (U = Lᵀ)
   VecX<S> udot;                    // nu
   VecX<S> qdot;                    // nq
   S time = S(0);
@@ -61,6 +62,14 @@ struct Workspace {
   int constraint_rank = 0;         // rank of A M⁻¹ Aᵀ at the last solve
   // Baumgarte stabilisation: bias −= 2α (A u + a0) + β² g (set by the caller; 0 = off).
   double baumgarte_alpha = 0, baumgarte_beta = 0;
+
+  // Planar evaluation (Model::evaluate_planar(); kane/planar.hpp). R, com, joint_point and
+  // velocity are still filled (forces and energies read them); the rest is planar.
+  std::vector<PVec<S>> partial_planar;             // nu: (Ω_z, L + Q×Ω)_{z,x,y}
+  std::vector<PlanarInertia<S>> inertia_planar;    // nb, at O
+  std::vector<PlanarInertia<S>> composite_planar;  // nb, subtree at O
+  std::vector<PVec<S>> velocity_planar, bias_planar, wrench_planar;  // nb
+  std::vector<Vec6<S>> prefix;  // ≤ 7: a joint's V_P + Σ_{c<k} s_c u_c (carried frames' velocity)
 };
 
 // Evaluates parameter-only expressions and the derived per-body/per-joint constants.

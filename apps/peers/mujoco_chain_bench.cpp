@@ -1,0 +1,118 @@
+// MuJoCo peer of `kanesens bench rhs` on the benchmark chain (tests/support/test_scenes.hpp,
+// chain_scene): N uniform rods (mass 1, length 1, central inertia diag(1/12, 1e-4, 1/12)),
+// hinges about z, gravity −y, contacts disabled. Times mj_forward (positions, velocities, mass
+// matrix and its factorisation, bias forces, the solve for qacc) at the same seeded random state
+// as kanesens (q, u uniform in [-1, 1] from std::mt19937(seed)), median over batches.
+//
+//   mujoco_chain_bench N [--repeat R] [--seed S]    → JSON on stdout
+//
+// The JSON also carries qacc, so a script can check that both engines integrate the same
+// equations (scripts/bench_rhs.sh compares it with `kanesens eom`).
+#include <mujoco/mujoco.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+std::string chain_mjcf(int n) {
+  std::string s =
+      "<mujoco model=\"chain\">\n"
+      "  <option gravity=\"0 -9.81 0\"><flag contact=\"disable\"/></option>\n"
+      "  <worldbody>\n";
+  std::string close;
+  for (int i = 1; i <= n; ++i) {
+    // Body frame at the joint; the rod hangs along −y, its mass center 0.5 below.
+    s += std::string(2 * i + 2, ' ') + "<body name=\"link" + std::to_string(i) + "\" pos=\"0 " +
+         (i == 1 ? "0" : "-1") + " 0\">\n";
+    s += std::string(2 * i + 4, ' ') + "<joint type=\"hinge\" axis=\"0 0 1\" pos=\"0 0 0\"/>\n";
+    s += std::string(2 * i + 4, ' ') +
+         "<inertial pos=\"0 -0.5 0\" mass=\"1\" diaginertia=\"0.083333333333333329 0.0001 "
+         "0.083333333333333329\"/>\n";
+    close = std::string(2 * i + 2, ' ') + "</body>\n" + close;
+  }
+  return s + close + "  </worldbody>\n</mujoco>\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s N [--repeat R] [--seed S] [--batch-seconds B]\n", argv[0]);
+    return 2;
+  }
+  const int n = std::atoi(argv[1]);
+  int repeat = 31;
+  unsigned seed = 1;
+  double batch_seconds = 2e-3;
+  for (int i = 2; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--seed")) seed = static_cast<unsigned>(std::atoi(argv[i + 1]));
+    else if (!std::strcmp(argv[i], "--batch-seconds")) batch_seconds = std::atof(argv[i + 1]);
+    else { std::fprintf(stderr, "unknown option %s\n", argv[i]); return 2; }
+  }
+  if (n < 1 || repeat < 1) { std::fprintf(stderr, "N and --repeat must be >= 1\n"); return 2; }
+
+  const std::string xml = chain_mjcf(n);
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  if (mj_makeEmptyFileVFS(vfs.get(), "chain.xml", static_cast<int>(xml.size())) != 0) return 1;
+  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), "chain.xml")], xml.data(), xml.size());
+  char error[1000] = "";
+  mjModel* m = mj_loadXML("chain.xml", vfs.get(), error, sizeof error);
+  mj_deleteVFS(vfs.get());
+  if (!m) { std::fprintf(stderr, "mj_loadXML: %s\n", error); return 1; }
+  mjData* d = mj_makeData(m);
+
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  for (int i = 0; i < m->nq; ++i) d->qpos[i] = uni(rng);
+  for (int i = 0; i < m->nv; ++i) d->qvel[i] = uni(rng);
+
+  using clock = std::chrono::steady_clock;
+  double sink = 0;
+  auto run = [&](long long k) {
+    const auto t0 = clock::now();
+    for (long long i = 0; i < k; ++i) {
+      mj_forward(m, d);
+      sink += d->qacc[m->nv - 1];
+    }
+    return std::chrono::duration<double>(clock::now() - t0).count();
+  };
+  long long batch = 1;
+  run(batch);
+  while (true) {
+    const double s = run(batch);
+    if (s >= batch_seconds || batch > (1LL << 40)) break;
+    batch = s > 0 ? std::max(2 * batch, static_cast<long long>(1.2 * batch * batch_seconds / s)) : 2 * batch;
+  }
+  std::vector<double> ns;
+  for (int r = 0; r < repeat; ++r) ns.push_back(run(batch) / static_cast<double>(batch) * 1e9);
+  std::sort(ns.begin(), ns.end());
+  const double median = ns[ns.size() / 2];
+
+  std::printf("{\n  \"engine\": \"mujoco\",\n  \"mujoco_version\": %d,\n  \"n\": %d,\n  \"nq\": %d,\n  \"nv\": %d,\n",
+              mj_version(), n, m->nq, m->nv);
+  std::printf("  \"seed\": %u,\n  \"repeat\": %d,\n  \"mj_forward\": {\"median_ns\": %.6g, \"min_ns\": %.6g, "
+              "\"evaluations_per_second\": %.6g, \"batch\": %lld, \"batches\": %d},\n",
+              seed, repeat, median, ns.front(), 1e9 / median, batch, repeat);
+  auto array = [](const char* name, const double* x, int k) {
+    std::printf("  \"%s\": [", name);
+    for (int i = 0; i < k; ++i) std::printf("%s%.17g", i ? ", " : "", x[i]);
+    std::printf("],\n");
+  };
+  array("qpos", d->qpos, m->nq);
+  array("qvel", d->qvel, m->nv);
+  array("qacc", d->qacc, m->nv);
+  std::printf("  \"checksum\": %.17g\n}\n", sink);
+  mj_deleteData(d);
+  mj_deleteModel(m);
+  return 0;
+}
