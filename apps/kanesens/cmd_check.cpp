@@ -2,7 +2,11 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include <Eigen/Dense>
+
+#include "kane/equations.hpp"
 #include "model/build_model.hpp"
+#include "sim/kane_problem.hpp"
 #include "scene/parse_scene.hpp"
 #include "util/did_you_mean.hpp"
 
@@ -22,10 +26,26 @@ CLI::App* add_check(CLI::App& app, Action& action) {
       for (const auto& j : m.joints)
         std::cout << " " << j.name << " [" << joint_type_name(j.type) << ": "
                   << (j.parent >= 0 ? m.bodies[j.parent].name : "ground") << " -> " << m.bodies[j.child].name << "]";
-      std::cout << "\n  degrees of freedom: " << m.nu << " (nq = " << m.nq << ", nu = " << m.nu << ")\n";
+      int rank = 0;
+      if (m.nconstraint_rows > 0) {
+        // Rank of the constraint matrix at the initial state: DOF = nu − rank(A).
+        KaneProblem problem(m, {});
+        std::vector<double> y(static_cast<std::size_t>(m.nstate()));
+        problem.initial_state(y.data());
+        Workspace<double> ws(m);
+        const std::vector<double> p = m.nominal_parameters();
+        set_parameters(m, ws, p.data());
+        std::vector<double> ydot(y.size());
+        evaluate_rhs(m, ws, 0.0, y.data(), ydot.data());
+        rank = static_cast<int>(Eigen::FullPivLU<Eigen::MatrixXd>(ws.constraint_matrix).rank());
+      }
+      std::cout << "\n  degrees of freedom: " << m.nu - rank << " (nq = " << m.nq << ", nu = " << m.nu
+                << ", independent constraint rows = " << rank << ")\n";
       std::cout << "  coordinates: " << join_names(m.coordinate_names) << "\n";
       std::cout << "  speeds: " << join_names(m.speed_names) << "\n";
-      std::cout << "  constraints: 0\n";
+      std::cout << "  constraints (" << m.constraints.size() << ", " << m.nconstraint_rows << " rows):";
+      for (const auto& r : m.constraint_row_names) std::cout << " " << r;
+      std::cout << "\n";
       std::cout << "  forces (" << m.forces.size() << "):";
       for (const auto& f : m.forces) std::cout << " " << f.name;
       std::cout << "\n  parameters (" << m.nparam() << "):";
