@@ -147,19 +147,18 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
     throw InputError({}, "--resume", "no file '" + output + "' to resume; run without --resume to start it");
   io::RunFile file = opt.resume ? io::RunFile::open_for_resume(comm, output, layout)
                                 : io::RunFile::create(comm, output, layout, opt.overwrite);
+  // Samples to run, by position: all of them (no list: memory per rank does not grow with the
+  // number of samples), or with --resume those whose status is still 0.
   std::vector<long long> pending;
   if (opt.resume) {
     const std::vector<int> status = file.read_status();
     for (std::size_t i = 0; i < status.size(); ++i)
       if (status[i] == 0) pending.push_back(static_cast<long long>(i));
-  } else {
-    pending.resize(static_cast<std::size_t>(design.size()));
-    for (std::size_t i = 0; i < pending.size(); ++i) pending[i] = static_cast<long long>(i);
   }
   check_mpi(MPI_Barrier(comm), "MPI_Barrier");  // everyone has read /status before anyone writes
 
   SharedCounter next(comm, 0), done(comm, 0);
-  const long long npending = static_cast<long long>(pending.size());
+  const long long npending = opt.resume ? static_cast<long long>(pending.size()) : design.size();
   KaneProblem problem(model, sens, st.constraints);
   std::vector<double> outputs;
   solve::Integrator integrator(st.solver);
@@ -194,7 +193,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
     if (first >= npending) break;
     const long long last = std::min(npending, first + chunk);
     for (long long pos = first; pos < last; ++pos) {
-      const long long i = pending[static_cast<std::size_t>(pos)];
+      const long long i = opt.resume ? pending[static_cast<std::size_t>(pos)] : pos;
       t0 = Clock::now();
       SampleInputs in = base;
       design.sample(i, values);
