@@ -27,6 +27,7 @@ KaneProblem::KaneProblem(const Model& model, std::vector<InputRef> sensitivities
     for (int r = 0; r < c.nrows; ++r)
       if (c.holonomic[r]) holonomic_rows_.push_back(c.row_offset + r);
   if (model.nconstraint_rows > 0) ws_project_ = std::make_unique<Workspace<Dual>>(model);
+  embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
   if (options_.stabilization == ConstraintOptions::Stabilization::baumgarte) {
     // The same Baumgarte terms in every workspace, so Jacobian and sensitivities differentiate
     // the equations that are integrated.
@@ -57,6 +58,20 @@ void KaneProblem::set_sample(const SampleInputs& inputs) {
     p[sens_[i].index].d = 0;
   }
   if (ws_project_) set_parameters(model_, *ws_project_, std::vector<Dual>(parameters_.begin(), parameters_.end()).data());
+  if (embedded_) {
+    // Independent speeds from A at the (consistent) initial state.
+    std::vector<double> y0(static_cast<std::size_t>(model_.nstate()));
+    initial_state_full(y0.data());
+    std::vector<double> zero(static_cast<std::size_t>(model_.nu), 0.0);
+    evaluate_state_expressions(model_, ws_, 0.0, y0.data(), zero.data());
+    compute_position(model_, ws_, y0.data());
+    compute_velocity(model_, ws_, zero.data());
+    compute_kinematic_derivatives(model_, ws_, y0.data(), zero.data());
+    compute_constraints(model_, ws_, y0.data(), zero.data());
+    sets_ = choose_embedding(ws_.constraint_matrix);
+    sc_ = std::make_unique<EmbeddingScratch<double>>(model_, sets_);
+    sc_dual_ = std::make_unique<EmbeddingScratch<Dual>>(model_, sets_);
+  }
   std::copy(parameters_.begin(), parameters_.end(), dq_parameters_.begin());
   for (std::size_t i = 0; i < sens_.size(); ++i)
     dq_parameters_[model_.nparam() + i] = sens_[i].kind == InputRef::Kind::parameter ? 0.0 : 1.0;
@@ -216,6 +231,16 @@ int KaneProblem::project(double t, const double* y, double* corr, double, double
     if (!g.allFinite()) return 1;
   }
   for (int i = 0; i < nq; ++i) corr[i] = q[i] - y[i];
+  if (embedded_) {
+    // Velocities satisfy the constraints by construction; only positions drift.
+    for (int k = nq; k < size(); ++k) corr[k] = 0;
+    if (err && mh > 0) {
+      const Eigen::Map<Eigen::VectorXd> eq(err, nq);
+      const Eigen::VectorXd c = codG.solve(G * eq);
+      for (int i = 0; i < nq; ++i) err[i] -= c[i];
+    }
+    return 0;
+  }
   evaluate_state_expressions(model_, ws_, t, q.data(), y + nq);
   compute_position(model_, ws_, q.data());
   compute_velocity(model_, ws_, y + nq);
@@ -241,38 +266,86 @@ int KaneProblem::project(double t, const double* y, double* corr, double, double
   return 0;
 }
 
+// The three below take the full state (nstate) and evaluate the multiplier form (also for the
+// embedding, which gives the same λ on the constraint manifold).
 void KaneProblem::multipliers(double t, const double* y, double* lambda) {
   std::vector<double> ydot(static_cast<std::size_t>(model_.nstate()));
-  rhs(t, y, ydot.data());
+  sync_dq_parameters();
+  evaluate_rhs(model_, ws_, t, y, ydot.data());
   for (int r = 0; r < model_.nconstraint_rows; ++r) lambda[r] = ws_.multipliers[r];
 }
 
 void KaneProblem::multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda) {
-  std::vector<double> sdot(static_cast<std::size_t>(model_.nstate()));
-  sensitivity_rhs(t, y, nullptr, i, s, sdot.data());
-  const Workspace<Dual>& ws = ws_sens_[i] ? *ws_sens_[i] : ws_jacobian_;
+  Workspace<Dual>& ws = dual_workspace(i);
+  const int n = model_.nstate();
+  std::vector<Dual> yd(static_cast<std::size_t>(n)), ydot(static_cast<std::size_t>(n));
+  for (int r = 0; r < n; ++r) yd[static_cast<std::size_t>(r)] = Dual(y[r], s[r]);
+  evaluate_rhs(model_, ws, Dual(t), yd.data(), ydot.data());
   for (int r = 0; r < model_.nconstraint_rows; ++r) dlambda[r] = ws.multipliers[r].d;
 }
 
 void KaneProblem::constraint_residuals(double t, const double* y, double& position, double& velocity) {
   std::vector<double> ydot(static_cast<std::size_t>(model_.nstate()));
-  rhs(t, y, ydot.data());
+  sync_dq_parameters();
+  evaluate_rhs(model_, ws_, t, y, ydot.data());
   position = 0;
   velocity = 0;
   for (int r : holonomic_rows_) position = std::max(position, std::abs(ws_.position_residual[r]));
   for (int r = 0; r < model_.nconstraint_rows; ++r) velocity = std::max(velocity, std::abs(ws_.velocity_residual[r]));
 }
 
-void KaneProblem::initial_state(double* y0) const {
+void KaneProblem::initial_state_full(double* y0) const {
   std::vector<Dual> y(model_.nstate());
   initial_state_dual(-1, y);
   for (int s = 0; s < model_.nstate(); ++s) y0[s] = y[s].v;
 }
 
+void KaneProblem::initial_state(double* y0) const {
+  std::vector<Dual> y(model_.nstate());
+  initial_state_dual(-1, y);
+  for (int s = 0; s < model_.nq; ++s) y0[s] = y[s].v;
+  if (!embedded_) {
+    for (int s = model_.nq; s < model_.nstate(); ++s) y0[s] = y[s].v;
+    return;
+  }
+  for (std::size_t c = 0; c < sets_.independent.size(); ++c) y0[model_.nq + static_cast<int>(c)] = y[model_.nq + sets_.independent[c]].v;
+}
+
 void KaneProblem::initial_sensitivity(int i, double* s0) const {
   std::vector<Dual> y(model_.nstate());
   initial_state_dual(i, y);
-  for (int s = 0; s < model_.nstate(); ++s) s0[s] = y[s].d;
+  for (int s = 0; s < model_.nq; ++s) s0[s] = y[s].d;
+  if (!embedded_) {
+    for (int s = model_.nq; s < model_.nstate(); ++s) s0[s] = y[s].d;
+    return;
+  }
+  for (std::size_t c = 0; c < sets_.independent.size(); ++c) s0[model_.nq + static_cast<int>(c)] = y[model_.nq + sets_.independent[c]].d;
+}
+
+void KaneProblem::full_state(double t, const double* y, double* y_full) {
+  const int nq = model_.nq;
+  std::copy(y, y + nq, y_full);
+  if (!embedded_) {
+    std::copy(y + nq, y + model_.nstate(), y_full + nq);
+    return;
+  }
+  sync_dq_parameters();
+  if (!reconstruct_speeds(model_, ws_, *sc_, sets_, t, y, y + nq, y_full + nq))
+    throw std::runtime_error("embedding: the dependent-speed matrix is singular at t = " + std::to_string(t));
+}
+
+void KaneProblem::full_sensitivity(double t, const double* y, int i, const double* s, double* s_full) {
+  const int nq = model_.nq, n = size();
+  std::copy(s, s + nq, s_full);
+  if (!embedded_) {
+    std::copy(s + nq, s + model_.nstate(), s_full + nq);
+    return;
+  }
+  for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], s[r]);
+  std::vector<Dual> u(static_cast<std::size_t>(model_.nu));
+  if (!reconstruct_speeds(model_, dual_workspace(i), *sc_dual_, sets_, Dual(t), y_dual_.data(), y_dual_.data() + nq, u.data()))
+    throw std::runtime_error("embedding: the dependent-speed matrix is singular at t = " + std::to_string(t));
+  for (int k = 0; k < model_.nu; ++k) s_full[nq + k] = u[static_cast<std::size_t>(k)].d;
 }
 
 void KaneProblem::sync_dq_parameters() {
@@ -288,15 +361,26 @@ void KaneProblem::sync_dq_parameters() {
 
 void KaneProblem::rhs(double t, const double* y, double* ydot) {
   sync_dq_parameters();
+  if (embedded_) {
+    if (!embedded_rhs(model_, ws_, *sc_, sets_, t, y, ydot))
+      throw std::runtime_error("embedding: singular mass matrix or dependent-speed matrix at t = " + std::to_string(t));
+    if (sc_->conditioning > 1e10)
+      throw std::runtime_error("embedding: the independent speeds chosen at t0 no longer parameterise the motion at t = " +
+                               std::to_string(t) + " (dependent-speed matrix conditioning " +
+                               std::to_string(sc_->conditioning) + "); use formulation: multipliers");
+    return;
+  }
   if (!evaluate_rhs(model_, ws_, t, y, ydot))
     throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
 }
 
 void KaneProblem::jacobian(double t, const double* y, const double*, double* J) {
-  const int n = model_.nstate();
+  const int n = size();
   for (int c = 0; c < n; ++c) {
     for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], r == c ? 1.0 : 0.0);
-    if (!evaluate_rhs(model_, ws_jacobian_, Dual(t), y_dual_.data(), ydot_dual_.data()))
+    const bool ok = embedded_ ? embedded_rhs(model_, ws_jacobian_, *sc_dual_, sets_, Dual(t), y_dual_.data(), ydot_dual_.data())
+                              : evaluate_rhs(model_, ws_jacobian_, Dual(t), y_dual_.data(), ydot_dual_.data());
+    if (!ok)
       throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
     for (int r = 0; r < n; ++r) J[r + c * n] = ydot_dual_[r].d;
   }
@@ -304,10 +388,12 @@ void KaneProblem::jacobian(double t, const double* y, const double*, double* J) 
 
 void KaneProblem::sensitivity_rhs(double t, const double* y, const double*, int i, const double* s,
                                   double* sdot) {
-  const int n = model_.nstate();
-  Workspace<Dual>& ws = ws_sens_[i] ? *ws_sens_[i] : ws_jacobian_;
+  const int n = size();
+  Workspace<Dual>& ws = dual_workspace(i);
   for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], s[r]);
-  if (!evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data()))
+  const bool ok = embedded_ ? embedded_rhs(model_, ws, *sc_dual_, sets_, Dual(t), y_dual_.data(), ydot_dual_.data())
+                            : evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data());
+  if (!ok)
     throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
   for (int r = 0; r < n; ++r) sdot[r] = ydot_dual_[r].d;
 }

@@ -15,6 +15,7 @@
 #include "ad/dual.hpp"
 #include "model/workspace.hpp"
 #include "sim/constraint_options.hpp"
+#include "sim/embedding.hpp"
 #include "sim/inputs.hpp"
 #include "solve/ode_problem.hpp"
 
@@ -28,7 +29,10 @@ class KaneProblem final : public solve::OdeProblem {
   // physically invalid (mass ≤ 0, ...).
   void set_sample(const SampleInputs& inputs);
 
-  int size() const override { return model_.nstate(); }
+  // nq + nu, or with the embedding formulation nq + (number of independent speeds).
+  int size() const override {
+    return embedded_ ? model_.nq + static_cast<int>(sets_.independent.size()) : model_.nstate();
+  }
   void initial_state(double* y0) const override;
   void rhs(double t, const double* y, double* ydot) override;
   bool has_jacobian() const override { return true; }
@@ -45,6 +49,12 @@ class KaneProblem final : public solve::OdeProblem {
   bool has_projection() const override {
     return model_.nconstraint_rows > 0 && options_.stabilization == ConstraintOptions::Stabilization::projection;
   }
+  bool embedded() const { return embedded_; }
+  const EmbeddingSets& embedding_sets() const { return sets_; }
+  // The full state [q; u] (nstate) from the integrator's state y (size()), and the full state
+  // sensitivity from the integrator's s_i. Identity copies unless embedded.
+  void full_state(double t, const double* y, double* y_full);
+  void full_sensitivity(double t, const double* y, int i, const double* s, double* s_full);
   int project(double t, const double* y, double* corr, double eps_proj, double* err) override;
 
   // Total mechanical energy T + V at (t, y) with the current parameters.
@@ -68,7 +78,14 @@ class KaneProblem final : public solve::OdeProblem {
   // Holonomic residual g (mh) and its Jacobian G = ∂g/∂q (mh × nq) at q (doubles).
   void position_constraints(double t, const double* q, Eigen::VectorXd& g, Eigen::MatrixXd* G) const;
 
+  void initial_state_full(double* y0) const;
+  Workspace<Dual>& dual_workspace(int i) { return ws_sens_[i] ? *ws_sens_[i] : ws_jacobian_; }
+
   ConstraintOptions options_;
+  bool embedded_ = false;
+  EmbeddingSets sets_;
+  std::unique_ptr<EmbeddingScratch<double>> sc_;
+  std::unique_ptr<EmbeddingScratch<Dual>> sc_dual_;
   std::vector<int> holonomic_rows_;
   mutable double initial_dq_ = 0, initial_du_ = 0;
   std::unique_ptr<Workspace<Dual>> ws_project_;

@@ -5,7 +5,7 @@
 namespace kanesens {
 
 void resize_trajectory(Trajectory& traj, const KaneProblem& problem, std::size_t ntimes, const RecordFlags& flags) {
-  const std::size_t n = static_cast<std::size_t>(problem.size());
+  const std::size_t n = static_cast<std::size_t>(problem.model().nstate());
   const std::size_t ns = static_cast<std::size_t>(problem.num_sensitivities());
   traj.states.assign(flags.states ? ntimes * n : 0, std::nan(""));
   traj.sensitivities.assign(flags.sensitivities ? ntimes * n * ns : 0, std::nan(""));
@@ -20,10 +20,24 @@ void resize_trajectory(Trajectory& traj, const KaneProblem& problem, std::size_t
 void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<const double> times,
               const RecordFlags& flags, Trajectory& traj) {
   resize_trajectory(traj, problem, times.size(), flags);
-  const std::size_t n = static_cast<std::size_t>(problem.size());
+  const std::size_t n = static_cast<std::size_t>(problem.model().nstate());
   const std::size_t ns = static_cast<std::size_t>(problem.num_sensitivities());
-  traj.result = integrator.integrate(problem, times, [&](int k, double t, const double* y, const double* const* s) {
+  std::vector<double> yfull(n), sfull(n);
+  traj.result = integrator.integrate(problem, times, [&](int k, double t, const double* yint, const double* const* sint) {
     const std::size_t kk = static_cast<std::size_t>(k);
+    // Outputs are always the full state [q; u] (the embedding integrates [q; u_i]).
+    problem.full_state(t, yint, yfull.data());
+    const double* y = yfull.data();
+    std::vector<std::vector<double>> s_full;
+    std::vector<const double*> s_ptr;
+    if (sint) {
+      s_full.assign(ns, std::vector<double>(n));
+      for (std::size_t i = 0; i < ns; ++i) {
+        problem.full_sensitivity(t, yint, static_cast<int>(i), sint[i], s_full[i].data());
+        s_ptr.push_back(s_full[i].data());
+      }
+    }
+    const double* const* s = sint ? s_ptr.data() : nullptr;
     if (flags.states) std::copy(y, y + n, traj.states.begin() + static_cast<std::ptrdiff_t>(kk * n));
     if (flags.sensitivities && s)
       for (std::size_t r = 0; r < n; ++r)

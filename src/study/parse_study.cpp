@@ -115,13 +115,14 @@ void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOpt
       co.formulation = read_choice<ConstraintOptions::Formulation>(
           c["formulation"], file, k2 + ".formulation",
           {{"multipliers", ConstraintOptions::Formulation::multipliers}, {"embedding", ConstraintOptions::Formulation::embedding}});
-    if (co.formulation == ConstraintOptions::Formulation::embedding)
-      fail(c["formulation"], file, k2 + ".formulation", "'embedding' is not implemented yet; use 'multipliers'");
     if (c["stabilization"])
       co.stabilization = read_choice<ConstraintOptions::Stabilization>(
           c["stabilization"], file, k2 + ".stabilization",
           {{"none", ConstraintOptions::Stabilization::none}, {"baumgarte", ConstraintOptions::Stabilization::baumgarte},
            {"projection", ConstraintOptions::Stabilization::projection}});
+    if (co.formulation == ConstraintOptions::Formulation::embedding &&
+        co.stabilization == ConstraintOptions::Stabilization::baumgarte)
+      fail(c, file, k2, "embedding satisfies the velocity constraints exactly; use stabilization: projection or none");
     if (c["alpha"]) co.alpha = read_number(c["alpha"], file, k2 + ".alpha");
     if (c["beta"]) co.beta = read_number(c["beta"], file, k2 + ".beta");
     if (co.alpha < 0 || co.beta < 0) fail(c, file, k2, "alpha and beta must be >= 0");
