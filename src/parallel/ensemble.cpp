@@ -244,17 +244,19 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
       file.write_sample(row);
       io_s += seconds_since(t0);
       if (++written == kill_after) std::raise(SIGKILL);
-      t0 = Clock::now();
-      done.fetch_add(1);
-      sched_s += seconds_since(t0);
-      if (progress && seconds_since(last_progress) >= 1.0) {
-        last_progress = Clock::now();
-        const long long d = done.read();
-        const double el = seconds_since(t_start);
-        const double rate = d / std::max(el, 1e-9);
-        std::fprintf(stderr, "kanesens: %lld/%lld samples, %.1f samples/s, ETA %.0f s\n", d, npending, rate,
-                     rate > 0 ? (npending - d) / rate : 0.0);
-      }
+    }
+    // One message per chunk, not per sample: at scale the counter on rank 0 sees one atomic per
+    // claimed chunk plus one here.
+    t0 = Clock::now();
+    done.fetch_add(last - first);
+    sched_s += seconds_since(t0);
+    if (progress && seconds_since(last_progress) >= 1.0) {
+      last_progress = Clock::now();
+      const long long d = done.read();
+      const double el = seconds_since(t_start);
+      const double rate = d / std::max(el, 1e-9);
+      std::fprintf(stderr, "kanesens: %lld/%lld samples, %.1f samples/s, ETA %.0f s\n", d, npending, rate,
+                   rate > 0 ? (npending - d) / rate : 0.0);
     }
   }
   long long counts[2] = {local_ok, local_failed}, total_counts[2] = {0, 0};
