@@ -1,5 +1,6 @@
 #include "io/run_file.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -175,8 +176,69 @@ void RunFile::write_sample(const SampleRow& row) {
   write_row(status_, kStatusPath, H5T_NATIVE_INT, &status, i);
 }
 
+void SampleBlock::append(const SampleRow& row) {
+  if (count == 0) first = row.index;
+  if (row.index != first + count) throw std::invalid_argument("SampleBlock: samples must be consecutive");
+  ++count;
+  status.push_back(row.status);
+  message.push_back(row.message);
+  parameters.insert(parameters.end(), row.parameters.begin(), row.parameters.end());
+  initial_state.insert(initial_state.end(), row.initial_state.begin(), row.initial_state.end());
+  states.insert(states.end(), row.states.begin(), row.states.end());
+  multipliers.insert(multipliers.end(), row.multipliers.begin(), row.multipliers.end());
+  sensitivities.insert(sensitivities.end(), row.sensitivities.begin(), row.sensitivities.end());
+  outputs.insert(outputs.end(), row.outputs.begin(), row.outputs.end());
+  stats.insert(stats.end(), row.stats.begin(), row.stats.end());
+}
+
+void RunFile::write_samples(const SampleBlock& b) {
+  if (!file_) throw std::logic_error("write_samples on a closed run file");
+  if (b.count == 0) return;
+  const std::int64_t first = b.first, n = b.count;
+  if (first < 0 || first + n > nsamples_)
+    throw std::invalid_argument("samples " + std::to_string(first) + ".." + std::to_string(first + n - 1) +
+                                " outside 0.." + std::to_string(nsamples_ - 1) + " of " + path_);
+  const auto un = static_cast<std::size_t>(n);
+  expect_size(bool(parameters_), b.parameters.size(), un * nparameter_, "parameters", first);
+  expect_size(true, b.initial_state.size(), un * nstate_, "initial_state", first);
+  expect_size(bool(states_), b.states.size(), un * ntime_ * nstate_, "states", first);
+  expect_size(bool(multipliers_), b.multipliers.size(), un * ntime_ * nconstraint_, "multipliers", first);
+  expect_size(bool(sensitivities_), b.sensitivities.size(), un * ntime_ * nstate_ * nsensitivity_, "sensitivities", first);
+  expect_size(true, b.outputs.size(), un * outputs_.size() * ntime_, "outputs", first);
+  expect_size(true, b.stats.size(), un * stats_.size(), "stats", first);
+  const hid_t f64 = H5T_NATIVE_DOUBLE;
+  if (parameters_) write_rows(parameters_, "/parameters", f64, b.parameters.data(), first, n);
+  write_rows(initial_state_, "/initial_state", f64, b.initial_state.data(), first, n);
+  if (states_) write_rows(states_, "/states", f64, b.states.data(), first, n);
+  if (multipliers_) write_rows(multipliers_, "/multipliers", f64, b.multipliers.data(), first, n);
+  if (sensitivities_) write_rows(sensitivities_, "/sensitivities", f64, b.sensitivities.data(), first, n);
+  std::vector<double> column(un * std::max<std::size_t>(ntime_, 1));
+  for (std::size_t k = 0; k < outputs_.size(); ++k) {  // [sample][output][time] → [sample][time]
+    for (std::size_t s = 0; s < un; ++s)
+      std::copy_n(b.outputs.data() + (s * outputs_.size() + k) * ntime_, ntime_, column.data() + s * ntime_);
+    write_rows(outputs_[k], "/outputs", f64, column.data(), first, n);
+  }
+  for (std::size_t k = 0; k < stats_.size(); ++k) {
+    for (std::size_t s = 0; s < un; ++s) column[s] = b.stats[s * stats_.size() + k];
+    write_rows(stats_[k], "/solver_stats", f64, column.data(), first, n);
+  }
+  std::vector<char> messages(un * message_size, '\0');
+  for (std::size_t s = 0; s < un; ++s) {
+    const std::string fitted = fit_utf8(b.message[s], message_size);
+    std::memcpy(messages.data() + s * message_size, fitted.data(), fitted.size());
+  }
+  write_rows(message_, kMessagePath, make_string_type(message_size).get(), messages.data(), first, n);
+  // Last: a status of 1 on disk means every value above is on disk too.
+  write_rows(status_, kStatusPath, H5T_NATIVE_INT, b.status.data(), first, n);
+}
+
 void RunFile::write_row(const Dataset& dataset, const std::string& path, hid_t memtype,
                         const void* data, std::int64_t index) const {
+  write_rows(dataset, path, memtype, data, index, 1);
+}
+
+void RunFile::write_rows(const Dataset& dataset, const std::string& path, hid_t memtype,
+                         const void* data, std::int64_t index, std::int64_t nrows) const {
   const std::string where = "(" + path_ + ":" + path + ", sample " + std::to_string(index) + ")";
   Dataspace file_space(H5Dget_space(dataset.get()), "H5Dget_space" + where);
   const int rank = H5Sget_simple_extent_ndims(file_space.get());
@@ -185,7 +247,7 @@ void RunFile::write_row(const Dataset& dataset, const std::string& path, hid_t m
   check(H5Sget_simple_extent_dims(file_space.get(), count.data(), nullptr),
         "H5Sget_simple_extent_dims" + where);
   start[0] = static_cast<hsize_t>(index);
-  count[0] = 1;
+  count[0] = static_cast<hsize_t>(nrows);
   check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
                             nullptr),
         "H5Sselect_hyperslab" + where);

@@ -50,6 +50,29 @@ struct SampleRow {
   std::span<const double> stats;          // [nstats]
 };
 
+// Consecutive samples first .. first+count−1, flat in sample order (each entry as in SampleRow,
+// concatenated): written with one H5Dwrite per dataset instead of one per sample and dataset.
+struct SampleBlock {
+  std::int64_t first = 0, count = 0;
+  std::vector<int> status;
+  std::vector<std::string> message;
+  std::vector<double> parameters, initial_state, states, multipliers, sensitivities, outputs, stats;
+  void clear() {
+    count = 0;
+    status.clear();
+    message.clear();
+    parameters.clear();
+    initial_state.clear();
+    states.clear();
+    multipliers.clear();
+    sensitivities.clear();
+    outputs.clear();
+    stats.clear();
+  }
+  // Appends one row (its index must be first + count).
+  void append(const SampleRow& row);
+};
+
 class RunFile {
  public:
   static constexpr std::size_t message_size = 160;  // bytes per /message entry
@@ -76,6 +99,8 @@ class RunFile {
   // Independent I/O from whichever rank ran the sample; no collective call. Writes the data
   // first and /status last. Throws std::invalid_argument on a wrong index or span size.
   void write_sample(const SampleRow& row);
+  // The same for a block of consecutive samples; statuses are written last, after all data.
+  void write_samples(const SampleBlock& block);
   void flush();  // collective (H5Fflush with the MPI-IO driver)
   void close();  // collective; further calls do nothing
 
@@ -85,6 +110,8 @@ class RunFile {
  private:
   RunFile(std::string path, File file, const RunLayout& layout);
   // Writes row `index` of `dataset` (all its other dimensions) from `data`, independent I/O.
+  void write_rows(const Dataset& dataset, const std::string& path, hid_t memtype, const void* data,
+                  std::int64_t first, std::int64_t count) const;
   void write_row(const Dataset& dataset, const std::string& path, hid_t memtype, const void* data,
                  std::int64_t index) const;
 

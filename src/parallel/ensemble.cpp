@@ -180,6 +180,15 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
   long long written = 0;
   auto last_progress = Clock::now();
 
+  io::SampleBlock block;
+  auto flush_block = [&] {
+    const auto tw = Clock::now();
+    file.write_samples(block);
+    io_s += seconds_since(tw);
+    written += block.count;
+    block.clear();
+    if (kill_after > 0 && written >= kill_after) std::raise(SIGKILL);
+  };
   for (;;) {
     auto t0 = Clock::now();
     long long chunk = opt.chunk;
@@ -225,7 +234,6 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
       }
       compute_s += seconds_since(t0);
       (status == 1 ? local_ok : local_failed)++;
-      t0 = Clock::now();
       io::SampleRow row;
       row.index = i;
       row.status = status;
@@ -245,6 +253,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
       io_s += seconds_since(t0);
       if (++written == kill_after) std::raise(SIGKILL);
     }
+    flush_block();  // a chunk's samples reach the file when the chunk ends
     // One message per chunk, not per sample: at scale the counter on rank 0 sees one atomic per
     // claimed chunk plus one here.
     t0 = Clock::now();
