@@ -249,9 +249,9 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
       row.outputs = outputs;
       row.multipliers = traj.multipliers;
       row.stats = stats;
-      file.write_sample(row);
-      io_s += seconds_since(t0);
-      if (++written == kill_after) std::raise(SIGKILL);
+      // Rows of consecutive samples are written together (one H5Dwrite per dataset per block).
+      if (block.count > 0 && i != block.first + block.count) flush_block();
+      block.append(row);
     }
     flush_block();  // a chunk's samples reach the file when the chunk ends
     // One message per chunk, not per sample: at scale the counter on rank 0 sees one atomic per
