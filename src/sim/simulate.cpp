@@ -22,8 +22,21 @@ void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<con
   resize_trajectory(traj, problem, times.size(), flags);
   const std::size_t n = static_cast<std::size_t>(problem.size());
   const std::size_t ns = static_cast<std::size_t>(problem.num_sensitivities());
+  std::vector<std::vector<double>> projected;
+  std::vector<const double*> projected_ptr(ns);
+  if (problem.projects_sensitivities() && ns > 0) projected.assign(ns, std::vector<double>(n));
   traj.result = integrator.integrate(problem, times, [&](int k, double t, const double* y, const double* const* s) {
     const std::size_t kk = static_cast<std::size_t>(k);
+    if (s && !projected.empty()) {
+      // CVODES projected y only: record the sensitivities projected onto the tangent space
+      // (the integrator's own copies are left as they are).
+      for (std::size_t i = 0; i < ns; ++i) {
+        std::copy(s[i], s[i] + n, projected[i].begin());
+        problem.project_sensitivity(t, y, static_cast<int>(i), projected[i].data());
+        projected_ptr[i] = projected[i].data();
+      }
+      s = projected_ptr.data();
+    }
     if (flags.states) std::copy(y, y + n, traj.states.begin() + static_cast<std::ptrdiff_t>(kk * n));
     if (flags.sensitivities && s)
       for (std::size_t r = 0; r < n; ++r)
