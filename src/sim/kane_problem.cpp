@@ -284,6 +284,47 @@ void KaneProblem::multiplier_sensitivity(double t, const double* y, int i, const
   for (int r = 0; r < model_.nconstraint_rows; ++r) dlambda[r] = ws.multipliers[r].d;
 }
 
+void KaneProblem::sensitivity_constraint_residuals(double t, const double* y, int i, const double* s,
+                                                  double& position, double& velocity) {
+  const int n = model_.nstate();
+  Workspace<Dual>& ws = ws_sens_[i] ? *ws_sens_[i] : ws_jacobian_;
+  for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], s[r]);
+  evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data());
+  position = 0;
+  velocity = 0;
+  for (int r : holonomic_rows_) position = std::max(position, std::abs(ws.position_residual[r].d));
+  for (int r = 0; r < model_.nconstraint_rows; ++r) velocity = std::max(velocity, std::abs(ws.velocity_residual[r].d));
+}
+
+void KaneProblem::project_sensitivity(double t, const double* y, int i, double* s) {
+  const int nq = model_.nq, nu = model_.nu, n = model_.nstate(), m = model_.nconstraint_rows;
+  const int mh = static_cast<int>(holonomic_rows_.size());
+  if (m == 0) return;
+  Workspace<Dual>& ws = ws_sens_[i] ? *ws_sens_[i] : ws_jacobian_;
+  auto evaluate = [&] {
+    for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], s[r]);
+    evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data());
+  };
+  evaluate();
+  if (mh > 0) {
+    Eigen::VectorXd g, rt(mh);
+    Eigen::MatrixXd G;
+    position_constraints(t, y, g, &G);
+    for (int r = 0; r < mh; ++r) rt[r] = ws.position_residual[holonomic_rows_[r]].d;
+    const Eigen::VectorXd dq = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(G).solve(rt);
+    for (int k = 0; k < nq; ++k) s[k] -= dq[k];
+    evaluate();
+  }
+  Eigen::MatrixXd A(m, nu);
+  Eigen::VectorXd rv(m);
+  for (int r = 0; r < m; ++r) {
+    for (int k = 0; k < nu; ++k) A(r, k) = ws.constraint_matrix(r, k).v;
+    rv[r] = ws.velocity_residual[r].d;
+  }
+  const Eigen::VectorXd du = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(A).solve(rv);
+  for (int k = 0; k < nu; ++k) s[nq + k] -= du[k];
+}
+
 void KaneProblem::constraint_residuals(double t, const double* y, double& position, double& velocity) {
   std::vector<double> ydot(static_cast<std::size_t>(model_.nstate()));
   sync_dq_parameters();

@@ -56,6 +56,8 @@ class KaneProblem final : public solve::OdeProblem {
   void full_state(double t, const double* y, double* y_full);
   void full_sensitivity(double t, const double* y, int i, const double* s, double* s_full);
   int project(double t, const double* y, double* corr, double eps_proj, double* err) override;
+  // Whether simulate() projects the recorded sensitivities (projection + project_sensitivities).
+  bool projects_sensitivities() const { return has_projection() && options_.project_sensitivities; }
 
   // Total mechanical energy T + V at (t, y) with the current parameters.
   double energy(double t, const double* y);
@@ -63,6 +65,16 @@ class KaneProblem final : public solve::OdeProblem {
   // s_i (n): the chain rule through the augmented solve, by one dual evaluation.
   void multipliers(double t, const double* y, double* lambda);
   void multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda);
+  // Projects sensitivity i (s, n entries, in place) onto the tangent space of the constraints at
+  // (t, y): the linearisation of project() — s_q ← s_q − G⁺(G s_q + ∂g/∂p), then
+  // s_u ← s_u − A⁺ d(A u + a0)/dε along (s, e_p). CVODES's projection moves y only, so the
+  // integrated sensitivities drift off this space (docs/constraints.md); simulate() applies this
+  // to the recorded sensitivities when stabilization is projection.
+  void project_sensitivity(double t, const double* y, int i, double* s);
+  // Velocity-level and position-level constraint residuals of sensitivity i at (t, y):
+  // max |G s_q + ∂g/∂p| (holonomic rows) and max |d(A u + a0)/dε| (should be 0).
+  void sensitivity_constraint_residuals(double t, const double* y, int i, const double* s, double& position,
+                                        double& velocity);
   // Constraint residuals at (t, y): max |g| over holonomic rows, max |A u + a0| over all rows.
   void constraint_residuals(double t, const double* y, double& position, double& velocity);
   // Size of the correction that made the last sample's initial state consistent (max norms).

@@ -22,20 +22,20 @@ void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<con
   resize_trajectory(traj, problem, times.size(), flags);
   const std::size_t n = static_cast<std::size_t>(problem.model().nstate());
   const std::size_t ns = static_cast<std::size_t>(problem.num_sensitivities());
-  std::vector<double> yfull(n), sfull(n);
+  std::vector<double> yfull(n);
+  std::vector<std::vector<double>> s_full(ns, std::vector<double>(n));
+  std::vector<const double*> s_ptr(ns);
   traj.result = integrator.integrate(problem, times, [&](int k, double t, const double* yint, const double* const* sint) {
     const std::size_t kk = static_cast<std::size_t>(k);
     // Outputs are always the full state [q; u] (the embedding integrates [q; u_i]).
     problem.full_state(t, yint, yfull.data());
     const double* y = yfull.data();
-    std::vector<std::vector<double>> s_full;
-    std::vector<const double*> s_ptr;
-    if (sint) {
-      s_full.assign(ns, std::vector<double>(n));
-      for (std::size_t i = 0; i < ns; ++i) {
-        problem.full_sensitivity(t, yint, static_cast<int>(i), sint[i], s_full[i].data());
-        s_ptr.push_back(s_full[i].data());
-      }
+    for (std::size_t i = 0; sint && i < ns; ++i) {
+      problem.full_sensitivity(t, yint, static_cast<int>(i), sint[i], s_full[i].data());
+      // CVODES projects y only: record the sensitivities projected onto the tangent space
+      // (the integrator's own copies are left as they are).
+      if (problem.projects_sensitivities()) problem.project_sensitivity(t, y, static_cast<int>(i), s_full[i].data());
+      s_ptr[i] = s_full[i].data();
     }
     const double* const* s = sint ? s_ptr.data() : nullptr;
     if (flags.states) std::copy(y, y + n, traj.states.begin() + static_cast<std::ptrdiff_t>(kk * n));

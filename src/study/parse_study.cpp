@@ -110,7 +110,7 @@ void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOpt
   }
   if (const YAML::Node c = n["constraints"]) {
     const std::string k2 = key + ".constraints";
-    check_keys(c, file, k2, {"formulation", "stabilization", "alpha", "beta", "correct_initial"});
+    check_keys(c, file, k2, {"formulation", "stabilization", "alpha", "beta", "correct_initial", "project_sensitivities"});
     if (c["formulation"])
       co.formulation = read_choice<ConstraintOptions::Formulation>(
           c["formulation"], file, k2 + ".formulation",
@@ -127,6 +127,8 @@ void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOpt
     if (c["beta"]) co.beta = read_number(c["beta"], file, k2 + ".beta");
     if (co.alpha < 0 || co.beta < 0) fail(c, file, k2, "alpha and beta must be >= 0");
     if (c["correct_initial"]) co.correct_initial = read_bool(c["correct_initial"], file, k2 + ".correct_initial");
+    if (c["project_sensitivities"])
+      co.project_sensitivities = read_bool(c["project_sensitivities"], file, k2 + ".project_sensitivities");
   }
   if (co.stabilization == ConstraintOptions::Stabilization::projection && o.method != solve::Method::bdf &&
       n["constraints"])
