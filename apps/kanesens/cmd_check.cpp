@@ -22,10 +22,16 @@ CLI::App* add_check(CLI::App& app, Action& action) {
       for (const auto& j : m.joints)
         std::cout << " " << j.name << " [" << joint_type_name(j.type) << ": "
                   << (j.parent >= 0 ? m.bodies[j.parent].name : "ground") << " -> " << m.bodies[j.child].name << "]";
-      std::cout << "\n  degrees of freedom: " << m.nu << " (nq = " << m.nq << ", nu = " << m.nu << ")\n";
+      if (m.nconstraint_rows == 0)
+        std::cout << "\n  degrees of freedom: " << m.nu << " (nq = " << m.nq << ", nu = " << m.nu << ")\n";
+      else
+        std::cout << "\n  degrees of freedom: " << m.nu - m.nconstraint_rows << " if the " << m.nconstraint_rows
+                  << " constraint rows are independent (nq = " << m.nq << ", nu = " << m.nu << ")\n";
       std::cout << "  coordinates: " << join_names(m.coordinate_names) << "\n";
       std::cout << "  speeds: " << join_names(m.speed_names) << "\n";
-      std::cout << "  constraints: 0\n";
+      std::cout << "  constraints (" << m.constraints.size() << ", " << m.nconstraint_rows << " rows):";
+      for (const auto& c : m.constraints) std::cout << " " << c.name;
+      std::cout << "\n  constraint rows: " << (m.nconstraint_rows ? join_names(m.constraint_row_names) : "none") << "\n";
       std::cout << "  forces (" << m.forces.size() << "):";
       for (const auto& f : m.forces) std::cout << " " << f.name;
       std::cout << "\n  parameters (" << m.nparam() << "):";
