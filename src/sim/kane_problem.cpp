@@ -109,7 +109,8 @@ void KaneProblem::position_constraints(double t, const double* q, Eigen::VectorX
 // Corrects y0 onto the constraints, in dual arithmetic so the initial sensitivities are those of
 // the corrected state: positions by Newton on the dependent coordinates (chosen from the last
 // coordinate backwards, so the first ones — the user's driving coordinates — are kept;
-// quaternion components are never moved), speeds by the least-squares correction.
+// quaternion components are never moved), speeds likewise on dependent speeds chosen from the
+// last backwards (the first, driving speeds are kept).
 void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& ws_params) const {
   const int nq = model_.nq, nu = model_.nu, mh = static_cast<int>(holonomic_rows_.size());
   Workspace<Dual> ws = ws_params;
@@ -172,6 +173,10 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
       if (iter == 49) throw InputError({}, "initial conditions", "cannot satisfy the position constraints at t0 (Newton did not converge; residual " + std::to_string(gmax) + ")");
     }
   }
+  // Speeds: the velocity residual A u + a0 is linear in u. Dependent speeds are chosen like the
+  // dependent coordinates, from the last speed backwards (any speed may be one, quaternion
+  // joints' too), so the first speeds — the user's driving speeds — keep their given values.
+  std::vector<int> dep_u;
   for (int iter = 0; iter < 3; ++iter) {
     evaluate_state_expressions(model_, ws, Dual(t0), q, u);
     compute_position(model_, ws, q);
@@ -186,12 +191,25 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
       rv[r] = ws.velocity_residual[r].v;
       rt[r] = ws.velocity_residual[r].d;
     }
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
+    if (iter == 0) {
+      const Eigen::Index rank = Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(A).rank();
+      for (int k = nu - 1; k >= 0 && static_cast<Eigen::Index>(dep_u.size()) < rank; --k) {
+        std::vector<int> trial = dep_u;
+        trial.push_back(k);
+        Eigen::MatrixXd Ad(m, static_cast<Eigen::Index>(trial.size()));
+        for (std::size_t c = 0; c < trial.size(); ++c) Ad.col(static_cast<Eigen::Index>(c)) = A.col(trial[c]);
+        if (Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(Ad).rank() == static_cast<Eigen::Index>(trial.size())) dep_u = trial;
+      }
+    }
+    Eigen::MatrixXd Ad(m, static_cast<Eigen::Index>(dep_u.size()));
+    for (std::size_t c = 0; c < dep_u.size(); ++c) Ad.col(static_cast<Eigen::Index>(c)) = A.col(dep_u[c]);
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Ad);
     const Eigen::VectorXd dv = cod.solve(rv), dt = cod.solve(rt);
-    for (int k = 0; k < nu; ++k) {
-      u[k].v -= dv[k];
-      u[k].d -= dt[k];
-      du_max = std::max(du_max, std::abs(dv[k]));
+    for (std::size_t c = 0; c < dep_u.size(); ++c) {
+      const int k = dep_u[c];
+      u[k].v -= dv[static_cast<Eigen::Index>(c)];
+      u[k].d -= dt[static_cast<Eigen::Index>(c)];
+      du_max = std::max(du_max, std::abs(dv[static_cast<Eigen::Index>(c)]));
     }
   }
   initial_dq_ = dq_max;

@@ -90,6 +90,27 @@ def test_four_bar_crank_rocker():
     assert rocker.min() < lim[0] + 1e-3 and rocker.max() > lim[1] - 1e-3
 
 
+def test_four_bar_inconsistent_speeds_keep_the_crank_speed():
+    """Only the crank speed given (coupler, rocker speeds 0): the correction must keep the crank's
+    6 rad/s (the first, driving speed) and solve for the other two, as for coordinates — and the
+    sensitivity of the initial speeds to crank.u0 is (1, (w2 − w1)/w1, w3/w1)."""
+    d = simulate("four_bar_study.yaml", "coupler.u0=0", "rocker.u0=0", "time.end=0.01", "time.outputs=2",
+                 sens="crank.u0")
+    r, c, b, a, th1, w1 = 0.2, 0.7, 0.5, 0.6, math.pi / 2, 6.0
+    lpb = math.hypot(a - r * math.cos(th1), r * math.sin(th1))
+    phi = math.atan2(-r * math.sin(th1), a - r * math.cos(th1)) + math.acos((c * c + lpb * lpb - b * b) / (2 * c * lpb))
+    th3 = math.atan2(r * math.sin(th1) + c * math.sin(phi), r * math.cos(th1) + c * math.cos(phi) - a)
+    w2 = -r * w1 * math.sin(th1 - th3) / (c * math.sin(phi - th3))
+    w3 = r * w1 * math.sin(th1 - phi) / (b * math.sin(th3 - phi))
+    u0 = d["states"][0][3:]
+    assert u0[0] == w1
+    assert u0[1] == pytest.approx(w2 - w1, rel=1e-12)
+    assert u0[2] == pytest.approx(w3, rel=1e-12)
+    assert d["initial_correction"]["velocity"] == pytest.approx(max(abs(w2 - w1), abs(w3)), rel=1e-12)
+    s0 = [row[0] for row in d["sensitivities"][0]][3:]
+    assert s0 == pytest.approx([1.0, (w2 - w1) / w1, w3 / w1], rel=1e-12)
+
+
 def test_four_bar_multipliers_newton_euler_on_rocker():
     d = simulate("four_bar_study.yaml", "time.end=1", "time.outputs=11")
     m3, b, a = 1.5, 0.5, 0.6

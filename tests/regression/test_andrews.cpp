@@ -284,7 +284,7 @@ TEST(Andrews, InitialAccelerationsAndMultipliers) {
 // the independent coordinate — the choice that is regular at Θ = 0, where the β and Θ columns of
 // G are parallel. With β0 unchanged the corrected state must be the test set's q0 again; the
 // speeds (perturbed too) must be projected onto G q̇ = 0 and the reported corrections must be the
-// size of the perturbations.
+// size of the perturbations. Speeds likewise: β̇ (the first) is kept, the others are solved for.
 TEST(Andrews, ConsistentInitialConditionsFromPerturbedStart) {
   const ks::Model m = andrews_model();
   ks::SampleInputs inputs(m);
@@ -309,6 +309,8 @@ TEST(Andrews, ConsistentInitialConditionsFromPerturbedStart) {
               "|Δq| %.2e |Δu| %.2e\n",
               dq, g, gd, problem.initial_position_correction(), problem.initial_velocity_correction());
   EXPECT_EQ(y0[0], kQ0[0]);  // β kept exactly
+  // β̇0 = 0 is kept (the first, driving speed), so the only consistent speeds are all zero.
+  for (int k = 0; k < 7; ++k) EXPECT_LT(std::abs(y0[7 + k]), 1e-15) << "speed " << k;
   EXPECT_LT(dq, 1e-13);
   EXPECT_LT(g, 1e-15);
   EXPECT_LT(gd, 1e-15);
