@@ -44,8 +44,8 @@ CLI::App* add_check(CLI::App& app, Action& action) {
       std::cout << "  coordinates: " << join_names(m.coordinate_names) << "\n";
       std::cout << "  speeds: " << join_names(m.speed_names) << "\n";
       std::cout << "  constraints (" << m.constraints.size() << ", " << m.nconstraint_rows << " rows):";
-      for (const auto& r : m.constraint_row_names) std::cout << " " << r;
-      std::cout << "\n";
+      for (const auto& c : m.constraints) std::cout << " " << c.name;
+      std::cout << "\n  constraint rows: " << (m.nconstraint_rows ? join_names(m.constraint_row_names) : "none") << "\n";
       std::cout << "  forces (" << m.forces.size() << "):";
       for (const auto& f : m.forces) std::cout << " " << f.name;
       std::cout << "\n  parameters (" << m.nparam() << "):";

@@ -42,21 +42,15 @@ Vec3<S> point_partial(const Model& m, const Workspace<S>& ws, int b, int k, cons
 }
 
 // g, the velocity form and the bias of a general position constraint g(q, t) = 0 on scalar S.
+// The dual copies of q and the parameters live in the workspace (nq, np entries: any size,
+// no allocation here).
 template <class S>
 void general_position(const Model& m, Workspace<S>& ws, const Constraint& c, int row, const S* q) {
-  const int nq = m.nq;
+  const int nq = m.nq, np = m.nparam();
+  auto& x1 = ws.general_q1;
+  auto& p1 = ws.general_p1;
+  for (int i = 0; i < np; ++i) p1[i] = DualT<S>(ws.parameters[i]);
   expr::Inputs<DualT<S>> in1;
-  std::vector<DualT<S>>* unused = nullptr;
-  (void)unused;
-  // Work arrays on the stack would need nq at compile time; use the nullspace scratch as
-  // storage-free alternative: evaluate coordinate by coordinate with small fixed buffers.
-  constexpr int kMax = 64;
-  std::array<DualT<S>, kMax> x1{};
-  std::array<S, kMax> par_dummy{};
-  (void)par_dummy;
-  std::array<DualT<S>, kMax> p1{};
-  const int np = m.nparam();
-  for (int i = 0; i < np && i < kMax; ++i) p1[i] = DualT<S>(ws.parameters[i]);
   in1.parameters = p1.data();
   // Velocity residual: dg/dt along (q̇, 1).
   for (int i = 0; i < nq; ++i) x1[i] = DualT<S>(q[i], ws.qdot[i]);
@@ -80,8 +74,9 @@ void general_position(const Model& m, Workspace<S>& ws, const Constraint& c, int
   }
   // Bias: d²g/dt² with u̇ = 0, the ε1ε2 part of g(q + (ε1+ε2) q̇, t + ε1 + ε2).
   using D2 = DualT<DualT<S>>;
-  std::array<D2, kMax> x2{}, p2{};
-  for (int i = 0; i < np && i < kMax; ++i) p2[i] = D2(DualT<S>(ws.parameters[i]));
+  auto& x2 = ws.general_q2;
+  auto& p2 = ws.general_p2;
+  for (int i = 0; i < np; ++i) p2[i] = D2(DualT<S>(ws.parameters[i]));
   for (int i = 0; i < nq; ++i) x2[i] = D2(DualT<S>(q[i], ws.qdot[i]), DualT<S>(ws.qdot[i], S(0)));
   expr::Inputs<D2> in2;
   in2.parameters = p2.data();
@@ -93,9 +88,9 @@ void general_position(const Model& m, Workspace<S>& ws, const Constraint& c, int
 // A row, a0 and bias of a general velocity constraint Σ a_k u_k + a0 = 0.
 template <class S>
 void general_velocity(const Model& m, Workspace<S>& ws, const Constraint& c, int row, const S* q, const S* u) {
-  constexpr int kMax = 64;
-  std::array<DualT<S>, kMax> x{}, p{};
-  for (int i = 0; i < m.nparam() && i < kMax; ++i) p[i] = DualT<S>(ws.parameters[i]);
+  auto& x = ws.general_q1;
+  auto& p = ws.general_p1;
+  for (int i = 0; i < m.nparam(); ++i) p[i] = DualT<S>(ws.parameters[i]);
   for (int i = 0; i < m.nq; ++i) x[i] = DualT<S>(q[i], ws.qdot[i]);
   expr::Inputs<DualT<S>> in;
   in.parameters = p.data();

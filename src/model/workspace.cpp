@@ -52,6 +52,14 @@ Workspace<S>::Workspace(const Model& m)
       bias_planar(m.nbody()),
       wrench_planar(m.nbody()),
       prefix(7) {
+  bool general = false;
+  for (const Constraint& c : m.constraints) general = general || c.kind == Constraint::Kind::general;
+  if (general) {
+    general_q1.resize(m.nq);
+    general_p1.resize(m.nparam());
+    general_q2.resize(m.nq);
+    general_p2.resize(m.nparam());
+  }
   for (Slot s : m.parameter_slots)
     if (m.expressions[s].is_constant()) values[s] = S(m.expressions[s].constant_value());
 }

@@ -4,6 +4,7 @@
 #pragma once
 #include <vector>
 
+#include "ad/dual.hpp"
 #include "kane/planar.hpp"
 #include "kane/spatial.hpp"
 #include "model/model.hpp"
@@ -62,6 +63,10 @@ struct Workspace {
   int constraint_rank = 0;         // rank of A M⁻¹ Aᵀ at the last solve
   // Baumgarte stabilisation: bias −= 2α (A u + a0) + β² g (set by the caller; 0 = off).
   double baumgarte_alpha = 0, baumgarte_beta = 0;
+  // General constraints (kane/constraints.cpp): q and the parameters as first- and second-order
+  // duals, nq and np entries (empty when the model has no general constraint).
+  std::vector<DualT<S>> general_q1, general_p1;
+  std::vector<DualT<DualT<S>>> general_q2, general_p2;
 
   // Planar evaluation (Model::evaluate_planar(); kane/planar.hpp). R, com, joint_point and
   // velocity are still filled (forces and energies read them); the rest is planar.

@@ -121,10 +121,33 @@ void KaneProblem::position_constraints(double t, const double* q, Eigen::VectorX
   }
 }
 
+// Dependent columns of J (rank(J) of them), tried in the order `order`: a column is taken if it
+// is not negligible against J's largest column and raises the rank of those taken.
+static std::vector<int> choose_dependent(const Eigen::MatrixXd& J, const std::vector<int>& order) {
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> full(J);
+  full.setThreshold(1e-10);
+  const Eigen::Index rank = full.rank();
+  const double scale = J.colwise().norm().maxCoeff();
+  std::vector<int> dep;
+  for (std::size_t o = 0; o < order.size() && static_cast<Eigen::Index>(dep.size()) < rank; ++o) {
+    const int i = order[o];
+    if (!(J.col(i).norm() > 1e-10 * scale)) continue;
+    std::vector<int> trial = dep;
+    trial.push_back(i);
+    Eigen::MatrixXd Jd(J.rows(), static_cast<Eigen::Index>(trial.size()));
+    for (std::size_t c = 0; c < trial.size(); ++c) Jd.col(static_cast<Eigen::Index>(c)) = J.col(trial[c]);
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Jd);
+    qr.setThreshold(1e-10);
+    if (qr.rank() == static_cast<Eigen::Index>(trial.size())) dep = trial;
+  }
+  return dep;
+}
+
 // Corrects y0 onto the constraints, in dual arithmetic so the initial sensitivities are those of
 // the corrected state: positions by Newton on the dependent coordinates (chosen from the last
 // coordinate backwards, so the first ones — the user's driving coordinates — are kept;
-// quaternion components are never moved), speeds by the least-squares correction.
+// quaternion components are never moved), speeds likewise on dependent speeds chosen from the
+// last backwards (the first, driving speeds are kept).
 void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& ws_params) const {
   const int nq = model_.nq, nu = model_.nu, mh = static_cast<int>(holonomic_rows_.size());
   Workspace<Dual> ws = ws_params;
@@ -134,6 +157,30 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
   auto values = [&] { for (int i = 0; i < nq; ++i) qv[i] = q[i].v; };
   const double t0 = ws.time.v;
   double dq_max = 0, du_max = 0;
+  // Which initial values the user gave: 0 not given, 1 in the scene's q0/u0, 2 set for this
+  // sample or a sensitivity parameter. Dependents are tried in that order (lowest first), each
+  // tier from the last value backwards, so given values — and the first, driving coordinates
+  // and speeds — are kept when others can absorb the correction.
+  std::vector<unsigned char> given(static_cast<std::size_t>(model_.nstate()), 0);
+  for (std::size_t j = 0; j < model_.joints.size(); ++j) {
+    const Joint& J = model_.joints[j];
+    const JointSpec& js = model_.spec.joints[j];
+    for (int k = 0; k < J.nq; ++k) given[static_cast<std::size_t>(J.q_offset + k)] = !js.q0.empty();
+    for (int k = 0; k < J.nu; ++k) given[static_cast<std::size_t>(nq + J.u_offset + k)] = !js.u0.empty();
+  }
+  // Values set for this sample (--set, vary) or differentiated with respect to rank above the
+  // scene's: they are what the user is asking about.
+  for (int s = 0; s < model_.nstate(); ++s)
+    if (inputs_.initial_set[static_cast<std::size_t>(s)]) given[static_cast<std::size_t>(s)] = 2;
+  for (const InputRef& r : sens_)
+    if (r.kind == InputRef::Kind::initial_condition) given[static_cast<std::size_t>(r.index)] = 2;
+  auto dependent_order = [&](int offset, int count, const std::vector<int>& excluded) {
+    std::vector<int> order;
+    for (int pass = 0; pass < 3; ++pass)
+      for (int i = count - 1; i >= 0; --i)
+        if (!excluded[static_cast<std::size_t>(i)] && given[static_cast<std::size_t>(offset + i)] == pass) order.push_back(i);
+    return order;
+  };
   if (mh > 0) {
     Eigen::VectorXd g;
     Eigen::MatrixXd G;
@@ -143,16 +190,7 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
     for (const Joint& J : model_.joints)
       if (J.quaternion_offset >= 0)
         for (int c = 0; c < 4; ++c) quaternion[J.quaternion_offset + c] = 1;
-    const Eigen::Index rank = Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(G).rank();
-    std::vector<int> dep;
-    for (int i = nq - 1; i >= 0 && static_cast<Eigen::Index>(dep.size()) < rank; --i) {
-      if (quaternion[i]) continue;
-      std::vector<int> trial = dep;
-      trial.push_back(i);
-      Eigen::MatrixXd Gd(mh, static_cast<Eigen::Index>(trial.size()));
-      for (std::size_t c = 0; c < trial.size(); ++c) Gd.col(static_cast<Eigen::Index>(c)) = G.col(trial[c]);
-      if (Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(Gd).rank() == static_cast<Eigen::Index>(trial.size())) dep = trial;
-    }
+    const std::vector<int> dep = choose_dependent(G, dependent_order(0, nq, quaternion));
     std::vector<Dual> gd(mh);
     for (int iter = 0, converged = 0; iter < 50 && converged < 2; ++iter) {
       // Residual in duals (carries the parameter and initial-condition tangents).
@@ -187,6 +225,10 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
       if (iter == 49) throw InputError({}, "initial conditions", "cannot satisfy the position constraints at t0 (Newton did not converge; residual " + std::to_string(gmax) + ")");
     }
   }
+  // Speeds: the velocity residual A u + a0 is linear in u. Dependent speeds are chosen like the
+  // dependent coordinates, from the last speed backwards (any speed may be one, quaternion
+  // joints' too), so the first speeds — the user's driving speeds — keep their given values.
+  std::vector<int> dep_u;
   for (int iter = 0; iter < 3; ++iter) {
     evaluate_state_expressions(model_, ws, Dual(t0), q, u);
     compute_position(model_, ws, q);
@@ -201,12 +243,16 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
       rv[r] = ws.velocity_residual[r].v;
       rt[r] = ws.velocity_residual[r].d;
     }
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
+    if (iter == 0) dep_u = choose_dependent(A, dependent_order(nq, nu, std::vector<int>(static_cast<std::size_t>(nu), 0)));
+    Eigen::MatrixXd Ad(m, static_cast<Eigen::Index>(dep_u.size()));
+    for (std::size_t c = 0; c < dep_u.size(); ++c) Ad.col(static_cast<Eigen::Index>(c)) = A.col(dep_u[c]);
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Ad);
     const Eigen::VectorXd dv = cod.solve(rv), dt = cod.solve(rt);
-    for (int k = 0; k < nu; ++k) {
-      u[k].v -= dv[k];
-      u[k].d -= dt[k];
-      du_max = std::max(du_max, std::abs(dv[k]));
+    for (std::size_t c = 0; c < dep_u.size(); ++c) {
+      const int k = dep_u[c];
+      u[k].v -= dv[static_cast<Eigen::Index>(c)];
+      u[k].d -= dt[static_cast<Eigen::Index>(c)];
+      du_max = std::max(du_max, std::abs(dv[static_cast<Eigen::Index>(c)]));
     }
   }
   initial_dq_ = dq_max;

@@ -160,7 +160,9 @@ TEST(ConstraintSensitivities, StabilizationsAgainstFiniteDifferences) {
       const Measured& r = raw.at(row.rtol);
       const double worst_raw = std::max({r.err[1], r.err[2], r.err[3]});
       const double worst = std::max({m.err[1], m.err[2], m.err[3]});
-      EXPECT_LE(worst, worst_raw);  // never worse; at rtol 1e-8 about 10x better (3.9e-6 -> 3.7e-7)
+      // Never worse beyond the finite differences' own noise (~1e-8 here, see err[0]); at
+      // rtol 1e-8 about 10x better (3.9e-6 -> 3.7e-7), at 1e-10 equal (1.13e-7 vs 1.14e-7).
+      EXPECT_LE(worst, worst_raw + 1e-8);
     }
   }
 }
