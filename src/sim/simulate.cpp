@@ -17,12 +17,10 @@ void resize_trajectory(Trajectory& traj, const KaneProblem& problem, std::size_t
   traj.velocity_residual.assign(flags.constraint_residual ? ntimes : 0, std::nan(""));
 }
 
-void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<const double> times,
-              const RecordFlags& flags, Trajectory& traj) {
-  resize_trajectory(traj, problem, times.size(), flags);
+solve::RecordFn make_recorder(KaneProblem& problem, const RecordFlags& flags, Trajectory& traj) {
   const std::size_t n = static_cast<std::size_t>(problem.size());
   const std::size_t ns = static_cast<std::size_t>(problem.num_sensitivities());
-  traj.result = integrator.integrate(problem, times, [&](int k, double t, const double* y, const double* const* s) {
+  return [&problem, &traj, flags, n, ns](int k, double t, const double* y, const double* const* s) {
     const std::size_t kk = static_cast<std::size_t>(k);
     if (flags.states) std::copy(y, y + n, traj.states.begin() + static_cast<std::ptrdiff_t>(kk * n));
     if (flags.sensitivities && s)
@@ -42,7 +40,13 @@ void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<con
     }
     if (flags.constraint_residual && m > 0)
       problem.constraint_residuals(t, y, traj.position_residual[kk], traj.velocity_residual[kk]);
-  });
+  };
+}
+
+void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<const double> times,
+              const RecordFlags& flags, Trajectory& traj) {
+  resize_trajectory(traj, problem, times.size(), flags);
+  traj.result = integrator.integrate(problem, times, make_recorder(problem, flags, traj));
 }
 
 }  // namespace kanesens
