@@ -55,6 +55,8 @@ def finite(x):
 
 def panel(ax, data, error_key, work_key, title, max_error):
     rows = [r for r in data["rows"] if not r.get("skipped")]
+    if error_key.startswith("sens_"):  # only the runs that integrated sensitivities
+        rows = [r for r in rows if r.get("with_sens")]
     methods = []
     for r in rows:
         if r["method"] not in methods:
@@ -127,6 +129,33 @@ def plot_file(path, outdir, error_key, work_key, max_error=10.0, suffix=""):
     return out
 
 
+def fmt(x, f="{:.2e}"):
+    return "–" if x is None else f.format(x)
+
+
+def table(path, extra=()):
+    """The rows of one JSON file as a Markdown table (docs/workprecision.md)."""
+    with open(path) as f:
+        data = json.load(f)
+    has_sens = any(r.get("sens_final_rel_error") is not None for r in data["rows"])
+    cols = ["method", "tol", "h", "final rel. error", "L2 error"] + (["sens. rel. error"] if has_sens else []) + \
+        [c for c in extra] + ["time (ms)", "steps", "RHS evals", "status"]
+    out = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    for r in data["rows"]:
+        status = "skipped" if r["skipped"] else ("ok" if r["ok"] else r["message"].split(":")[0])
+        if r["ok"] and r.get("final_rel_error") is not None and r["final_rel_error"] > 10:
+            status = "diverged"
+        cells = [r["method"], fmt(r["tol"], "{:.0e}"), fmt(r["h"], "{:.2e}"), fmt(r["final_rel_error"]),
+                 fmt(r["l2_error"])]
+        if has_sens:
+            cells.append(fmt(r["sens_final_rel_error"]))
+        cells += [fmt(r.get(c)) for c in extra]
+        cells += [fmt(None if r["skipped"] else r["wall_seconds"] * 1e3, "{:.2f}"), str(r["steps"]),
+                  str(r["rhs_evals_total"]), status]
+        out.append("| " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("json", nargs="+", help="output of kanesens bench workprecision --json")
@@ -135,7 +164,13 @@ def main(argv=None):
     ap.add_argument("--work", default="wall_seconds", help="row key for the y axis (wall_seconds, rhs_evals_total)")
     ap.add_argument("--max-error", type=float, default=10.0, help="errors above this count as failures")
     ap.add_argument("--suffix", default="", help="appended to the PNG name (chain4_rhs.png)")
+    ap.add_argument("--table", action="store_true", help="print a Markdown table of the rows instead of plotting")
+    ap.add_argument("--columns", default="", help="extra row keys for --table (comma-separated)")
     a = ap.parse_args(argv)
+    if a.table:
+        for p in a.json:
+            print(table(p, [c for c in a.columns.split(",") if c]))
+        return 0
     os.makedirs(a.outdir, exist_ok=True)
     for p in a.json:
         print(plot_file(p, a.outdir, a.error, a.work, a.max_error, a.suffix))

@@ -36,3 +36,11 @@ for p in ${@:-$ALL}; do
     *) echo "unknown problem $p" >&2; exit 2 ;;
   esac
 done
+# Second views: deterministic work (RHS evaluations), energy drift, quaternion norm drift.
+P="/usr/bin/python3 scripts/plot_workprecision.py"
+for p in chain4 chain16 chain4_stiff_swing; do
+  [ -f "$OUT/$p.json" ] && $P "$OUT/$p.json" -o "$OUT" --work rhs_evals_total --suffix _rhs >&2
+done
+[ -f "$OUT/double_pendulum_long.json" ] && $P "$OUT/double_pendulum_long.json" -o "$OUT" --error energy_drift --suffix _energy >&2
+[ -f "$OUT/spinning_top.json" ] && $P "$OUT/spinning_top.json" -o "$OUT" --error quaternion_norm_drift --suffix _quaternion >&2
+true
