@@ -115,7 +115,8 @@ def plot_file(path, outdir, error_key, work_key, max_error=10.0, suffix=""):
         refdesc = f"reference bdf-exact rtol {rr['rtol']:.0e}"
     else:
         refdesc = f"reference {ref.get('file', '?')}"
-    title = (f"{data['scene']}: t = {data['t0']:g}..{data['t_end']:g}, {data['outputs']} outputs, "
+    title = (f"{os.path.basename(data['study'])} ({data['scene']}): t = {data['t0']:g}..{data['t_end']:g}, "
+             f"{data['outputs']} outputs, "
              f"atol = {data['atol_ratio']:g} rtol\n{refdesc}")
     panel(axes[0][0], data, error_key, work_key, title, max_error)
     if has_sens:
