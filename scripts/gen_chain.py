@@ -2,7 +2,7 @@
 """Generate the planar N-link pendulum chain scene (kanesens scene YAML) on stdout.
 
     /usr/bin/python3 scripts/gen_chain.py N [--spring K] [--damper C] [--rest R]
-                     [--mass M] [--length L] [--q0 A] > configs/nlink_chain_N.yaml
+                     [--mass M] [--length L] [--q0 A] [--q0-list A1,..,AN] [--free-first] > configs/nlink_chain_N.yaml
 
 The chain hangs from the world origin: N uniform rods of mass ``m`` and length ``L`` (shape
 inertia ``{shape: rod, length: L, axis: y}``, i.e. m L^2/12 about x and z), each joined to the
@@ -13,7 +13,11 @@ link relative to the link above).
 
 --spring K and --damper C put ``spring: {k: k, rest: rest}`` and ``damper: {c: c}`` on every
 joint, with scene parameters k, c and rest (default 0), so studies can vary them.
+--free-first leaves the first joint (to ground) without spring and damper, so the chain swings as
+a pendulum while stiff springs hold the other joints (configs/nlink_chain_4_stiff_swing.yaml).
 --q0 A sets the first joint's initial angle (default 0.5 rad); the others start at 0.
+--q0-list A1,..,AN sets all N initial angles (scripts/chain_slow_start.py computes the ones that
+start a stiff chain on its slow manifold).
 Uses only the standard library, so any Python 3 runs it.
 """
 
@@ -27,7 +31,7 @@ def fmt(x: float) -> str:
 
 
 def chain_yaml(n: int, spring=None, damper=None, rest=0.0, mass=1.0, length=1.0,
-               q0=0.5) -> str:
+               q0=0.5, free_first=False, q0_list=None) -> str:
     if n < 1:
         raise ValueError("N must be >= 1")
     args = [str(n)]
@@ -36,6 +40,12 @@ def chain_yaml(n: int, spring=None, damper=None, rest=0.0, mass=1.0, length=1.0,
                                ("--length", length, 1.0), ("--q0", q0, 0.5)):
         if val is not None and val != default:
             args += [flag, fmt(val)]
+    if free_first:
+        args.append("--free-first")
+    if q0_list is not None:
+        if len(q0_list) != n:
+            raise ValueError(f"--q0-list needs {n} values")
+        args += ["--q0-list", ",".join(repr(float(x)) for x in q0_list)]
 
     def param(name, val, comment):
         return f"    {name}: {fmt(val)}".ljust(24) + f"# {comment}"
@@ -72,11 +82,14 @@ def chain_yaml(n: int, spring=None, damper=None, rest=0.0, mass=1.0, length=1.0,
         lines.append("      axis: [0, 0, 1]")
         lines.append(f"      parent_point: {ppoint}")
         lines.append('      child_point: [0, "L/2", 0]')
-        lines.append(f"      q0: {fmt(q0) if i == 1 else 0}")
+        if q0_list is not None:
+            lines.append(f"      q0: {fmt(q0_list[i - 1])}")
+        else:
+            lines.append(f"      q0: {fmt(q0) if i == 1 else 0}")
         lines.append("      u0: 0")
-        if spring is not None:
+        if spring is not None and not (free_first and i == 1):
             lines.append("      spring: {k: k, rest: rest}")
-        if damper is not None:
+        if damper is not None and not (free_first and i == 1):
             lines.append("      damper: {c: c}")
     lines.append("  forces: []")
     return "\n".join(lines) + "\n"
@@ -91,10 +104,13 @@ def main(argv=None) -> int:
     ap.add_argument("--mass", type=float, default=1.0, help="link mass m")
     ap.add_argument("--length", type=float, default=1.0, help="link length L")
     ap.add_argument("--q0", type=float, default=0.5, help="initial angle of the first joint")
+    ap.add_argument("--free-first", action="store_true", help="no spring/damper on the first joint")
+    ap.add_argument("--q0-list", default=None, help="comma-separated initial angles of all N joints")
     a = ap.parse_args(argv)
     if a.n < 1:
         ap.error("N must be >= 1")
-    sys.stdout.write(chain_yaml(a.n, a.spring, a.damper, a.rest, a.mass, a.length, a.q0))
+    sys.stdout.write(chain_yaml(a.n, a.spring, a.damper, a.rest, a.mass, a.length, a.q0, a.free_first,
+                                [float(x) for x in a.q0_list.split(",")] if a.q0_list else None))
     return 0
 
 

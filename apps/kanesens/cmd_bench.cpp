@@ -163,7 +163,7 @@ int run_bench_rhs(const BenchOptions& o) {
 }  // namespace
 
 CLI::App* add_bench(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand("bench", "Speed measurements (JSON with --json)");
+  auto* cmd = app.add_subcommand("bench", "Speed and work-precision measurements (JSON with --json)");
   cmd->require_subcommand(1);
   auto* rhs = cmd->add_subcommand("rhs", "Time the right-hand side, M and f, and the exact (Dual) Jacobian");
   auto o = std::make_shared<BenchOptions>();
@@ -176,6 +176,7 @@ CLI::App* add_bench(CLI::App& app, Action& action) {
   rhs->add_option("--profile", o->profile,
                   "Run exactly N untimed evaluations of each kind (for callgrind: instructions / N)");
   rhs->callback([&action, o] { action = [o] { return run_bench_rhs(*o); }; });
+  add_bench_workprecision(cmd, action);
   return cmd;
 }
 

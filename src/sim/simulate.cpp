@@ -1,6 +1,7 @@
 #include "sim/simulate.hpp"
 
 #include <cmath>
+#include <memory>
 
 namespace kanesens {
 
@@ -17,27 +18,27 @@ void resize_trajectory(Trajectory& traj, const KaneProblem& problem, std::size_t
   traj.velocity_residual.assign(flags.constraint_residual ? ntimes : 0, std::nan(""));
 }
 
-void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<const double> times,
-              const RecordFlags& flags, Trajectory& traj) {
-  resize_trajectory(traj, problem, times.size(), flags);
+solve::RecordFn make_recorder(KaneProblem& problem, const RecordFlags& flags, Trajectory& traj) {
   const std::size_t n = static_cast<std::size_t>(problem.model().nstate());
   const std::size_t ns = static_cast<std::size_t>(problem.num_sensitivities());
-  std::vector<double> yfull(n);
-  std::vector<std::vector<double>> s_full(ns, std::vector<double>(n));
-  std::vector<const double*> s_ptr(ns);
-  traj.result = integrator.integrate(problem, times, [&](int k, double t, const double* yint, const double* const* sint) {
+  // Scratch shared by the calls (the recorder is called once per output, never concurrently).
+  auto yfull = std::make_shared<std::vector<double>>(n);
+  auto s_full = std::make_shared<std::vector<std::vector<double>>>(ns, std::vector<double>(n));
+  auto s_ptr = std::make_shared<std::vector<const double*>>(ns);
+  return [&problem, &traj, flags, n, ns, yfull, s_full, s_ptr](int k, double t, const double* yint,
+                                                               const double* const* sint) {
     const std::size_t kk = static_cast<std::size_t>(k);
     // Outputs are always the full state [q; u] (the embedding integrates [q; u_i]).
-    problem.full_state(t, yint, yfull.data());
-    const double* y = yfull.data();
+    problem.full_state(t, yint, yfull->data());
+    const double* y = yfull->data();
     for (std::size_t i = 0; sint && i < ns; ++i) {
-      problem.full_sensitivity(t, yint, static_cast<int>(i), sint[i], s_full[i].data());
+      problem.full_sensitivity(t, yint, static_cast<int>(i), sint[i], (*s_full)[i].data());
       // CVODES projects y only: record the sensitivities projected onto the tangent space
       // (the integrator's own copies are left as they are).
-      if (problem.projects_sensitivities()) problem.project_sensitivity(t, y, static_cast<int>(i), s_full[i].data());
-      s_ptr[i] = s_full[i].data();
+      if (problem.projects_sensitivities()) problem.project_sensitivity(t, y, static_cast<int>(i), (*s_full)[i].data());
+      (*s_ptr)[i] = (*s_full)[i].data();
     }
-    const double* const* s = sint ? s_ptr.data() : nullptr;
+    const double* const* s = sint ? s_ptr->data() : nullptr;
     if (flags.states) std::copy(y, y + n, traj.states.begin() + static_cast<std::ptrdiff_t>(kk * n));
     if (flags.sensitivities && s)
       for (std::size_t r = 0; r < n; ++r)
@@ -56,7 +57,13 @@ void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<con
     }
     if (flags.constraint_residual && m > 0)
       problem.constraint_residuals(t, y, traj.position_residual[kk], traj.velocity_residual[kk]);
-  });
+  };
+}
+
+void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<const double> times,
+              const RecordFlags& flags, Trajectory& traj) {
+  resize_trajectory(traj, problem, times.size(), flags);
+  traj.result = integrator.integrate(problem, times, make_recorder(problem, flags, traj));
 }
 
 }  // namespace kanesens

@@ -28,6 +28,10 @@ struct Trajectory {
 // Preallocates the buffers for `ntimes` outputs (reuse across samples: no reallocation).
 void resize_trajectory(Trajectory& traj, const KaneProblem& problem, std::size_t ntimes, const RecordFlags& flags);
 
+// The record callback simulate() passes to the integrator: fills `traj` (already sized by
+// resize_trajectory) at output k. For other integrators of the same problem (solve::integrate_rk4).
+solve::RecordFn make_recorder(KaneProblem& problem, const RecordFlags& flags, Trajectory& traj);
+
 // Integrates the problem's current sample. Outputs past a failure stay NaN.
 void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<const double> times,
               const RecordFlags& flags, Trajectory& traj);
