@@ -67,8 +67,19 @@ RunFile RunFile::create(MPI_Comm comm, const std::string& path, const RunLayout&
             "H5Fcreate(" + partial + ")");
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  write_schema(file.get(), layout, rank, message_size);
-  check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush(" + partial + ")");
+  try {
+    write_schema(file.get(), layout, rank, message_size);
+    check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush(" + partial + ")");
+  } catch (...) {
+    // E.g. the disk filled up while the datasets were allocated: leave no half-made file behind
+    // (every rank fails alike here: allocation and fill are collective).
+    file.reset();
+    if (rank == 0) {
+      std::error_code ec;
+      std::filesystem::remove(partial, ec);
+    }
+    throw;
+  }
   std::string rename_error;
   if (on_root(comm, [&] {
         std::error_code ec;

@@ -20,6 +20,8 @@ struct StudySpec {
   std::vector<double> output_times;  // strictly increasing; output 0 is the initial state
   solve::SolverOptions solver;
   std::vector<std::string> sensitivities;  // parameter or initial-condition names
+  std::vector<SourceLocation> sensitivity_where;  // where each was written
+  SourceLocation record_where;
   std::set<std::string> record;  // states, sensitivities, multipliers, energy, constraint_residual
   YAML::Node sampling, vary;     // the `sampling:` and `vary:` maps (may be null)
   SourceLocation sampling_where, vary_where;
