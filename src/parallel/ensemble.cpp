@@ -123,8 +123,10 @@ std::string check_output(const std::string& output, const RunOptions& opt, const
     return error("-o", "output file '" + output + "' already exists; pass --overwrite to replace it or --resume to continue it");
   if (::access(dir.c_str(), W_OK) != 0)
     return error("-o", "cannot write '" + output + "': directory '" + dir.string() + "' is not writable (" + std::strerror(errno) + ")");
+  // Fault injection for the disk-full test: skip this check so that HDF5 itself hits ENOSPC.
+  const bool skip_space_check = std::getenv("KANESENS_FAULT_IGNORE_FREE_SPACE") != nullptr;
   struct statvfs fsinfo;
-  if (::statvfs(dir.c_str(), &fsinfo) == 0) {
+  if (!skip_space_check && ::statvfs(dir.c_str(), &fsinfo) == 0) {
     const double free_bytes = static_cast<double>(fsinfo.f_bavail) * static_cast<double>(fsinfo.f_frsize);
     const double need = estimate_file_bytes(layout);
     if (need > free_bytes) {
@@ -143,22 +145,26 @@ std::string check_output(const std::string& output, const RunOptions& opt, const
   return "";
 }
 
-// An I/O error, told with what the user can do about it: if the output's file system is
-// (nearly) full, say so; and say what state the file is in.
+// An I/O error, told with what the user can do about it: the file, whether the disk is full
+// (free space below what the file needs, or below 4 MiB once the file exists), and what state
+// the file is in. `need`: estimated bytes of the file being created (0 once it exists).
 [[noreturn]] void rethrow_io_error(const std::exception& e, const std::string& output, const std::string& study,
-                                   bool created) {
-  std::string what = e.what();
+                                   double need) {
+  const bool created = need == 0;
+  std::string what = std::string(created ? "writing '" : "creating '") + output + "' failed";
   const std::filesystem::path dir =
       std::filesystem::path(output).parent_path().empty() ? "." : std::filesystem::path(output).parent_path();
   struct statvfs fsinfo;
   if (::statvfs(dir.c_str(), &fsinfo) == 0) {
     const double free_bytes = static_cast<double>(fsinfo.f_bavail) * static_cast<double>(fsinfo.f_frsize);
-    if (free_bytes < 4.0 * (1 << 20))
-      what += "; the disk is full: the file system of '" + dir.string() + "' has " + human_bytes(free_bytes) + " free";
+    if (created ? free_bytes < 4.0 * (1 << 20) : free_bytes < need)
+      what += ": the disk is full (the file system of '" + dir.string() + "' has " + human_bytes(free_bytes) +
+              " free" + (created ? "" : ", the file needs about " + human_bytes(need)) + ")";
   }
+  what += std::string(" [") + e.what() + "]";
   if (created)
-    what += "; samples with status 1 in '" + output + "' are intact: free space, then finish with: kanesens run " +
-            study + " -o " + output + " --resume";
+    what += "; samples with status 1 are intact: free space, then finish with: kanesens run " + study + " -o " +
+            output + " --resume";
   else
     what += "; no output was written: free space (or choose another -o) and run again";
   throw std::runtime_error(what);
@@ -310,7 +316,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
       try {
         return io::RunFile::create(comm, output, layout, opt.overwrite);
       } catch (const std::runtime_error& e) {
-        rethrow_io_error(e, output, study_path, false);
+        rethrow_io_error(e, output, study_path, estimate_file_bytes(layout));
       }
     }
     try {  // a file that is not ours, or of another study: every rank fails alike
@@ -421,7 +427,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
       try {
         file.write_sample(row);
       } catch (const std::runtime_error& e) {
-        rethrow_io_error(e, output, study_path, true);
+        rethrow_io_error(e, output, study_path, 0);
       }
       io_s += seconds_since(t0);
       if (++written == kill_after) std::raise(SIGKILL);

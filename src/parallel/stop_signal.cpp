@@ -27,6 +27,9 @@ void install_stop_handlers() {
   sa.sa_flags = SA_RESTART;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  // Past a file-size limit (ulimit -f) a write then fails with EFBIG, which becomes a clear
+  // error naming the file, instead of the process dying of SIGXFSZ.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 
 int stop_signal() { return static_cast<int>(g_stop_signal); }

@@ -9,7 +9,8 @@
 
 namespace kanesens::parallel {
 
-// Installs the handlers for SIGINT and SIGTERM (idempotent; sigaction, SA_RESTART).
+// Installs the handlers for SIGINT and SIGTERM (idempotent; sigaction, SA_RESTART), and
+// ignores SIGXFSZ (a write past `ulimit -f` then fails with EFBIG and is reported).
 void install_stop_handlers();
 // 0, or the number of the first stop signal received.
 int stop_signal();
