@@ -71,13 +71,13 @@ RunFile RunFile::create(MPI_Comm comm, const std::string& path, const RunLayout&
     write_schema(file.get(), layout, rank, message_size);
     check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush(" + partial + ")");
   } catch (...) {
-    // E.g. the disk filled up while the datasets were allocated: leave no half-made file behind
-    // (every rank fails alike here: allocation and fill are collective).
-    file.reset();
-    if (rank == 0) {
-      std::error_code ec;
-      std::filesystem::remove(partial, ec);
-    }
+    // E.g. the disk filled up while the datasets were allocated. The ranks need not fail
+    // alike (one rank's write hits ENOSPC while the others wait in the next collective), so
+    // no collective close here: abandon the handle (the caller aborts the job) and remove the
+    // half-made file from whichever rank sees the failure.
+    file.abandon();
+    std::error_code ec;
+    std::filesystem::remove(partial, ec);
     throw;
   }
   std::string rename_error;
@@ -206,6 +206,20 @@ void RunFile::write_row(const Dataset& dataset, const std::string& path, hid_t m
   check(H5Dwrite(dataset.get(), memtype, memory_space.get(), file_space.get(), independent_.get(),
                  data),
         "H5Dwrite" + where);
+}
+
+void RunFile::abandon() noexcept {
+  parameters_.abandon();
+  initial_state_.abandon();
+  states_.abandon();
+  multipliers_.abandon();
+  sensitivities_.abandon();
+  for (auto& d : outputs_) d.abandon();
+  for (auto& d : stats_) d.abandon();
+  message_.abandon();
+  status_.abandon();
+  independent_.abandon();
+  file_.abandon();
 }
 
 void RunFile::flush() {

@@ -359,90 +359,97 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
   auto last_progress = Clock::now();
 
   int stopped_by = 0;
-  for (;;) {
-    if ((stopped_by = stop_signal()) != 0) {
-      // Push the shared counter past the end: the other ranks stop at their next claim even
-      // if the signal reached only this process.
-      next.fetch_add(npending);
-      break;
-    }
-    auto t0 = Clock::now();
-    long long chunk = opt.chunk;
-    if (chunk <= 0) {
-      // Guided: a quarter of the remaining work per rank, at most 64, at least 1.
-      const long long seen = next.read();
-      chunk = std::clamp((npending - seen) / (4LL * nranks), 1LL, 64LL);
-    }
-    const long long first = next.fetch_add(chunk);
-    sched_s += seconds_since(t0);
-    if (first >= npending) break;
-    const long long last = std::min(npending, first + chunk);
-    for (long long pos = first; pos < last && stop_signal() == 0; ++pos) {  // unstarted ones stay status 0
-      const long long i = pending[static_cast<std::size_t>(pos)];
-      t0 = Clock::now();
-      SampleInputs in = base;
-      int status = 1;
-      std::string message;
-      std::fill(values.begin(), values.end(), std::nan(""));
-      std::fill(y0.begin(), y0.end(), std::nan(""));
-      std::fill(stats.begin(), stats.end(), std::nan(""));
-      try {
-        // Inside the try: a quantile can overflow (Boost.Math throws std::overflow_error for
-        // a lognormal far in its tail), which is this sample's failure, not the run's.
-        design.sample(i, values);
-        for (std::size_t d = 0; d < values.size(); ++d) in.set(varied[d], values[d]);
-        problem.set_sample(in);
-        problem.initial_state(y0.data());
-        simulate(problem, integrator, st.output_times, flags, traj);
-        const auto& s = traj.result.stats;
-        stats = {static_cast<double>(s.steps), static_cast<double>(s.rhs_evals), static_cast<double>(s.jac_evals),
-                 static_cast<double>(s.nonlin_iters), static_cast<double>(s.error_test_fails),
-                 static_cast<double>(s.sens_rhs_evals), s.wall_seconds};
-        if (!traj.result.ok()) {
-          status = traj.result.status;
-          message = traj.result.message;
-        }
-      } catch (const InputError& e) {
-        status = kStatusInvalidInputs;
-        message = e.detail();
-        resize_trajectory(traj, problem, st.output_times.size(), flags);
-      } catch (const std::exception& e) {
-        status = kStatusException;
-        message = e.what();
-        resize_trajectory(traj, problem, st.output_times.size(), flags);
+  try {
+    for (;;) {
+      if ((stopped_by = stop_signal()) != 0) {
+        // Push the shared counter past the end: the other ranks stop at their next claim even
+        // if the signal reached only this process.
+        next.fetch_add(npending);
+        break;
       }
-      compute_s += seconds_since(t0);
-      (status == 1 ? local_ok : local_failed)++;
-      t0 = Clock::now();
-      io::SampleRow row;
-      row.index = i;
-      row.status = status;
-      row.message = message;
-      row.parameters = values;
-      row.initial_state = y0;
-      row.states = traj.states;
-      row.sensitivities = traj.sensitivities;
-      row.outputs = traj.energy;
-      row.stats = stats;
-      try {
-        file.write_sample(row);
-      } catch (const std::runtime_error& e) {
-        rethrow_io_error(e, output, study_path, 0);
+      auto t0 = Clock::now();
+      long long chunk = opt.chunk;
+      if (chunk <= 0) {
+        // Guided: a quarter of the remaining work per rank, at most 64, at least 1.
+        const long long seen = next.read();
+        chunk = std::clamp((npending - seen) / (4LL * nranks), 1LL, 64LL);
       }
-      io_s += seconds_since(t0);
-      if (++written == kill_after) std::raise(SIGKILL);
-      t0 = Clock::now();
-      done.fetch_add(1);
+      const long long first = next.fetch_add(chunk);
       sched_s += seconds_since(t0);
-      if (progress && seconds_since(last_progress) >= 1.0) {
-        last_progress = Clock::now();
-        const long long d = done.read();
-        const double el = seconds_since(t_start);
-        const double rate = d / std::max(el, 1e-9);
-        std::fprintf(stderr, "kanesens: %lld/%lld samples, %.1f samples/s, ETA %.0f s\n", d, npending, rate,
-                     rate > 0 ? (npending - d) / rate : 0.0);
+      if (first >= npending) break;
+      const long long last = std::min(npending, first + chunk);
+      for (long long pos = first; pos < last && stop_signal() == 0; ++pos) {  // unstarted ones stay status 0
+        const long long i = pending[static_cast<std::size_t>(pos)];
+        t0 = Clock::now();
+        SampleInputs in = base;
+        int status = 1;
+        std::string message;
+        std::fill(values.begin(), values.end(), std::nan(""));
+        std::fill(y0.begin(), y0.end(), std::nan(""));
+        std::fill(stats.begin(), stats.end(), std::nan(""));
+        try {
+          // Inside the try: a quantile can overflow (Boost.Math throws std::overflow_error for
+          // a lognormal far in its tail), which is this sample's failure, not the run's.
+          design.sample(i, values);
+          for (std::size_t d = 0; d < values.size(); ++d) in.set(varied[d], values[d]);
+          problem.set_sample(in);
+          problem.initial_state(y0.data());
+          simulate(problem, integrator, st.output_times, flags, traj);
+          const auto& s = traj.result.stats;
+          stats = {static_cast<double>(s.steps), static_cast<double>(s.rhs_evals), static_cast<double>(s.jac_evals),
+                   static_cast<double>(s.nonlin_iters), static_cast<double>(s.error_test_fails),
+                   static_cast<double>(s.sens_rhs_evals), s.wall_seconds};
+          if (!traj.result.ok()) {
+            status = traj.result.status;
+            message = traj.result.message;
+          }
+        } catch (const InputError& e) {
+          status = kStatusInvalidInputs;
+          message = e.detail();
+          resize_trajectory(traj, problem, st.output_times.size(), flags);
+        } catch (const std::exception& e) {
+          status = kStatusException;
+          message = e.what();
+          resize_trajectory(traj, problem, st.output_times.size(), flags);
+        }
+        compute_s += seconds_since(t0);
+        (status == 1 ? local_ok : local_failed)++;
+        t0 = Clock::now();
+        io::SampleRow row;
+        row.index = i;
+        row.status = status;
+        row.message = message;
+        row.parameters = values;
+        row.initial_state = y0;
+        row.states = traj.states;
+        row.sensitivities = traj.sensitivities;
+        row.outputs = traj.energy;
+        row.stats = stats;
+        try {
+          file.write_sample(row);
+        } catch (const std::runtime_error& e) {
+          rethrow_io_error(e, output, study_path, 0);
+        }
+        io_s += seconds_since(t0);
+        if (++written == kill_after) std::raise(SIGKILL);
+        t0 = Clock::now();
+        done.fetch_add(1);
+        sched_s += seconds_since(t0);
+        if (progress && seconds_since(last_progress) >= 1.0) {
+          last_progress = Clock::now();
+          const long long d = done.read();
+          const double el = seconds_since(t_start);
+          const double rate = d / std::max(el, 1e-9);
+          std::fprintf(stderr, "kanesens: %lld/%lld samples, %.1f samples/s, ETA %.0f s\n", d, npending, rate,
+                       rate > 0 ? (npending - d) / rate : 0.0);
+        }
       }
     }
+  } catch (...) {
+    // This rank cannot go on (e.g. a failed write) while the others may be mid-sample: no
+    // collective call from here on; the caller prints the error and aborts the job.
+    file.abandon();
+    throw;
   }
   if (stopped_by == 0) stopped_by = stop_signal();
   long long counts[3] = {local_ok, local_failed, stopped_by}, total_counts[3] = {0, 0, 0};
