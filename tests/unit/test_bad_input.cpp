@@ -179,6 +179,10 @@ std::vector<Case> scene_cases() {
       {"ConstraintsNotSupported", Kind::scene, s + "  constraints:\n    - {name: c, type: coincident}\n", {"s.yaml:13:", "scene.constraints[0]", "not supported"}},
       {"NoBodies", Kind::scene, "kanesens: 1\nscene: {name: x, bodies: [], joints: []}\n", {"s.yaml", "scene.bodies", "at least one body"}},
       {"InvalidBodyName", Kind::scene, edit(s, "{name: b, mass", "{name: \"b c\", mass"), {"s.yaml:8:", "scene.bodies[1].name", "not a valid name"}},
+      // Classic parser crashers (fuzzing seeds): deep nesting must not exhaust the stack, an
+      // alias that refers to its own anchor must not recurse forever.
+      {"DeepYamlNesting", Kind::scene, "kanesens: 1\nscene: " + std::string(20000, '[') + std::string(20000, ']') + "\n", {"s.yaml:", "malformed YAML"}},
+      {"YamlAliasToItself", Kind::scene, "kanesens: 1\nscene: &a {name: x, bodies: [*a], joints: []}\n", {"s.yaml:2:", "scene.bodies[0]", "unknown key"}},
       {"NonScalarMapKey", Kind::scene, edit(s, "{m: 1, L: 1}", "{[a]: 1, L: 1}"), {"s.yaml:5:", "scene.parameters", "expected a parameter name"}},
   };
 }
