@@ -6,7 +6,7 @@
 #  2. SIGTERM to mpirun (2 ranks) and SIGINT to a lone kanesens: the ranks stop claiming samples,
 #     finish the ones in flight, close the file and say how to --resume (kanesens exits 130/143);
 #     --resume completes the file, which then equals an uninterrupted run bitwise;
-#  3. a full disk (a 2 MiB / 8 MiB tmpfs; skipped when mount is not permitted): the pre-check
+#  3. a full disk (a 1 MiB / 8 MiB tmpfs; skipped when mount is not permitted): the pre-check
 #     refuses a run that cannot fit; HDF5's own ENOSPC (pre-check skipped) gives a clear error and
 #     leaves no file; a disk that fills up after the file was created loses nothing (space is
 #     allocated at creation) and an interrupted run is --resume'd on the full disk.
@@ -80,7 +80,7 @@ kanesens: 1
 scene: $configs/double_pendulum.yaml
 time: {end: 20.0, outputs: 201}
 solver: {rtol: 1.0e-10, atol: 1.0e-12}
-sampling: {method: lhs, samples: 120, seed: 11}
+sampling: {method: lhs, samples: 80, seed: 11}
 vary:
   m2: {dist: uniform, low: 0.8, high: 1.2}
   elbow.q0: {dist: normal, mean: 0.2, std: 0.1}
@@ -113,7 +113,7 @@ grep -q "^kanesens: interrupted by SIGTERM: .* kanesens run long.yaml -o term.h5
 [[ ! -e term.h5.partial ]]
 interrupted_ok term.h5
 run long.yaml -o term.h5 --resume >/dev/null
-check status term.h5 120 0 0
+check status term.h5 80 0 0
 check same reference.h5 term.h5
 
 "$KANESENS" run long.yaml -o int.h5 --chunk 1 >/dev/null 2>int.err &
@@ -130,10 +130,10 @@ echo "signals: ok"
 
 # ---- 3. full disk -------------------------------------------------------------------------------
 mkdir -p "$mnt"
-if ! mount -t tmpfs -o size=2m tmpfs "$mnt" 2>/dev/null; then
+if ! mount -t tmpfs -o size=1m tmpfs "$mnt" 2>/dev/null; then
   echo "test_runtime_faults: ok (full-disk checks skipped: cannot mount a tmpfs here)"; exit 0
 fi
-# (a) the pre-check: 120 samples need ~3 MiB, the tmpfs has 2.
+# (a) the pre-check: 80 samples need ~2.5 MiB with metadata (~1.6 MiB of rows), the tmpfs has 1.
 set +e; run long.yaml -o "$mnt/a.h5" >/dev/null 2>a.err; rc=$?; set -e
 [[ $rc -eq 2 ]] && grep -q "sampling.samples: the output would need about .* but the file system of '$mnt' has" a.err \
   || { echo "FAIL: pre-check (exit $rc)"; cat a.err; exit 1; }
