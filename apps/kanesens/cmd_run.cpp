@@ -6,6 +6,7 @@
 #include "commands.hpp"
 #include "parallel/ensemble.hpp"
 #include "parallel/mpi_session.hpp"
+#include "parallel/stop_signal.hpp"
 #include "util/error.hpp"
 
 namespace kanesens::cli {
@@ -35,6 +36,20 @@ int run_run(const parallel::RunOptions& o, const std::string& study, bool json) 
         if (s.failed > 0)
           std::printf("  failed samples have status < 0 and a message: kanesens-post summary %s\n", s.output.c_str());
       }
+    }
+    if (s.stop_signal != 0) {
+      // Interrupted (SIGINT/SIGTERM): the file is closed, complete samples are intact and the
+      // rest have status 0; say how to finish. 128 + signal, the shell's convention.
+      if (mpi.rank() == 0) {
+        const long long left = s.attempted - s.ok - s.failed;
+        std::fflush(stdout);
+        std::fprintf(stderr,
+                     "kanesens: interrupted by %s: %lld of %lld samples not run; '%s' is closed and "
+                     "resumable: kanesens run %s -o %s --resume\n",
+                     parallel::signal_name(s.stop_signal), left, s.total, s.output.c_str(), study.c_str(),
+                     s.output.c_str());
+      }
+      return 128 + s.stop_signal;
     }
     return (s.attempted > 0 && s.ok == 0) ? 5 : 0;
   } catch (const InputError& e) {

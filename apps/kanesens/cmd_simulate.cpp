@@ -4,6 +4,7 @@
 
 #include "commands.hpp"
 #include "model/build_model.hpp"
+#include "parallel/ensemble.hpp"
 #include "sim/simulate.hpp"
 #include "study/study_spec.hpp"
 #include "util/json_writer.hpp"
@@ -104,6 +105,13 @@ void print_csv(const Model& m, const KaneProblem& problem, const std::vector<dou
 
 int run_simulate(const SimulateOptions& o) {
   if (o.format != "json" && o.format != "csv") throw InputError({}, "--format", "expected json or csv, found '" + o.format + "'");
+  {
+    // The whole study is checked, as `run` would (sampling and vary too, which simulate does
+    // not use): a typo there is an error here as well, not a surprise hours later.
+    parallel::RunOptions check;
+    check.set = o.set;
+    parallel::validate_study(o.study, check);
+  }
   StudySpec study = parse_study_file(o.study, o.set);
   // Parameters given with --set are compiled into the model (a derived parameter becomes a
   // constant); initial conditions are applied to the sample.

@@ -53,6 +53,21 @@ class Parser {
     throw InputError(where_, key_,
                      what + " at position " + std::to_string(pos_ + 1) + " of expression '" + s_ + "'");
   }
+  // A parameter-free part folds to inf or NaN (1/0, log(0), 1e300*1e300): the whole expression
+  // could never be finite, so it is an input error rather than a NaN found at run time.
+  [[noreturn]] void fail_constant(const std::string& what) const {
+    throw InputError(where_, key_, what + " in expression '" + s_ + "'");
+  }
+  // Recursion guard: parentheses, unary signs and function calls nest the descent; a limit
+  // keeps hostile input ("((((...", "----...1") from exhausting the stack.
+  struct Nest {
+    explicit Nest(Parser& p) : p_(p) {
+      if (++p_.nesting_ > kMaxNesting) p_.fail("expression nested too deeply");
+    }
+    ~Nest() { --p_.nesting_; }
+    Parser& p_;
+  };
+  static constexpr int kMaxNesting = 64;
   void skip_space() {
     while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
   }
@@ -88,6 +103,7 @@ class Parser {
         case Op::max: r = std::max(a, b); break;
         default: goto no_fold;
       }
+      if (!std::isfinite(r)) fail_constant(op == Op::div && b == 0 ? "division by zero" : "a constant part is not finite (" + std::to_string(r) + ")");
       code_.pop_back();
       code_.back().value = r;
       --depth_;
@@ -108,25 +124,31 @@ class Parser {
   void unary_op(Op op) {
     if (!code_.empty() && code_.back().op == Op::constant) {
       double& v = code_.back().value;
+      bool folded = true;
       switch (op) {
-        case Op::neg: v = -v; return;
-        case Op::sin: v = std::sin(v); return;
-        case Op::cos: v = std::cos(v); return;
-        case Op::tan: v = std::tan(v); return;
-        case Op::asin: v = std::asin(v); return;
-        case Op::acos: v = std::acos(v); return;
-        case Op::atan: v = std::atan(v); return;
-        case Op::exp: v = std::exp(v); return;
-        case Op::log: v = std::log(v); return;
-        case Op::sqrt: v = std::sqrt(v); return;
-        case Op::abs: v = std::abs(v); return;
-        default: break;
+        case Op::neg: v = -v; break;
+        case Op::sin: v = std::sin(v); break;
+        case Op::cos: v = std::cos(v); break;
+        case Op::tan: v = std::tan(v); break;
+        case Op::asin: v = std::asin(v); break;
+        case Op::acos: v = std::acos(v); break;
+        case Op::atan: v = std::atan(v); break;
+        case Op::exp: v = std::exp(v); break;
+        case Op::log: v = std::log(v); break;
+        case Op::sqrt: v = std::sqrt(v); break;
+        case Op::abs: v = std::abs(v); break;
+        default: folded = false; break;
+      }
+      if (folded) {
+        if (!std::isfinite(v)) fail_constant("a constant part is not finite (" + std::to_string(v) + ")");
+        return;
       }
     }
     emit({op}, 0);
   }
 
   void parse_expr() {
+    Nest guard(*this);
     parse_term();
     for (;;) {
       if (accept("+")) { parse_term(); binary(Op::add); }
@@ -145,6 +167,7 @@ class Parser {
     }
   }
   void parse_unary() {
+    Nest guard(*this);
     if (accept("-")) { parse_unary(); unary_op(Op::neg); return; }
     if (accept("+")) { parse_unary(); return; }
     parse_power();
@@ -165,6 +188,7 @@ class Parser {
       char* end = nullptr;
       const double v = std::strtod(begin, &end);
       if (end == begin) fail("bad number");
+      if (!std::isfinite(v)) fail("number out of range (not a finite double)");
       pos_ += static_cast<std::size_t>(end - begin);
       emit({Op::constant, VarKind::parameter, 0, v}, 1);
       return;
@@ -234,7 +258,7 @@ class Parser {
   const std::string& key_;
   std::size_t pos_ = 0;
   std::vector<Instruction> code_;
-  int depth_ = 0, max_depth_ = 0;
+  int depth_ = 0, max_depth_ = 0, nesting_ = 0;
   bool uses_parameters_ = false, uses_state_ = false;
 };
 
@@ -259,6 +283,8 @@ Expression compile(const std::string& text, const NameTable& names, const Source
                    const std::string& key) {
   Expression e;
   e.text_ = text;
+  e.where_ = where;
+  e.key_ = key;
   Parser p(text, names, where, key);
   e.code_ = p.parse(e.uses_parameters_, e.uses_state_);
   return e;

@@ -58,6 +58,10 @@ class Expression {
   explicit Expression(double constant);
 
   const std::string& text() const { return text_; }
+  // Where the expression was written (file:line:column) and its key path, for messages about
+  // its value found after compilation (e.g. a derived parameter that evaluates to inf).
+  const SourceLocation& where() const { return where_; }
+  const std::string& key() const { return key_; }
   bool is_constant() const { return !uses_parameters_ && !uses_state_; }
   bool uses_parameters() const { return uses_parameters_; }
   // True if it reads t, a coordinate or a speed (must be evaluated every right-hand side).
@@ -72,6 +76,8 @@ class Expression {
   friend Expression compile(const std::string&, const NameTable&, const SourceLocation&,
                             const std::string&);
   std::string text_;
+  SourceLocation where_;
+  std::string key_;
   std::vector<Instruction> code_;
   bool uses_parameters_ = false;
   bool uses_state_ = false;

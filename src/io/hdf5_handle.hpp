@@ -50,6 +50,9 @@ class Handle {
     if (id_ >= 0) Close(id_);
     id_ = H5I_INVALID_HID;
   }
+  // Forgets the identifier without closing it. For error paths under MPI where a collective
+  // close could wait forever for ranks that are not in step (the process is about to abort).
+  void abandon() noexcept { id_ = H5I_INVALID_HID; }
   // Releases the identifier and throws if HDF5 reports a failure (e.g. a collective H5Fclose).
   void close(std::string_view call) {
     if (id_ >= 0) check(Close(std::exchange(id_, H5I_INVALID_HID)), call);

@@ -68,8 +68,19 @@ RunFile RunFile::create(MPI_Comm comm, const std::string& path, const RunLayout&
             "H5Fcreate(" + partial + ")");
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  write_schema(file.get(), layout, rank, message_size);
-  check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush(" + partial + ")");
+  try {
+    write_schema(file.get(), layout, rank, message_size);
+    check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "H5Fflush(" + partial + ")");
+  } catch (...) {
+    // E.g. the disk filled up while the datasets were allocated. The ranks need not fail
+    // alike (one rank's write hits ENOSPC while the others wait in the next collective), so
+    // no collective close here: abandon the handle (the caller aborts the job) and remove the
+    // half-made file from whichever rank sees the failure.
+    file.abandon();
+    std::error_code ec;
+    std::filesystem::remove(partial, ec);
+    throw;
+  }
   std::string rename_error;
   if (on_root(comm, [&] {
         std::error_code ec;
@@ -257,6 +268,20 @@ void RunFile::write_rows(const Dataset& dataset, const std::string& path, hid_t 
   check(H5Dwrite(dataset.get(), memtype, memory_space.get(), file_space.get(), independent_.get(),
                  data),
         "H5Dwrite" + where);
+}
+
+void RunFile::abandon() noexcept {
+  parameters_.abandon();
+  initial_state_.abandon();
+  states_.abandon();
+  multipliers_.abandon();
+  sensitivities_.abandon();
+  for (auto& d : outputs_) d.abandon();
+  for (auto& d : stats_) d.abandon();
+  message_.abandon();
+  status_.abandon();
+  independent_.abandon();
+  file_.abandon();
 }
 
 void RunFile::flush() {

@@ -103,6 +103,10 @@ class RunFile {
   void write_samples(const SampleBlock& block);
   void flush();  // collective (H5Fflush with the MPI-IO driver)
   void close();  // collective; further calls do nothing
+  // Error path of one rank (an exception while the others run on): forgets every handle
+  // without the collective close, which could wait forever. Call it, then MPI_Abort. The file
+  // on disk is as after kill -9: every row with status 1 is intact and --resume finishes it.
+  void abandon() noexcept;
 
   const std::string& path() const { return path_; }
   std::int64_t nsamples() const { return nsamples_; }

@@ -99,7 +99,8 @@ class Builder {
       in.parameters = vals.data();
       par.nominal = par.value.evaluate(in);
       if (!std::isfinite(par.nominal))
-        fail(p.value.where, p.value.key, "value is not finite (" + std::to_string(par.nominal) + ")");
+        fail(p.value.where, p.value.key, "value is not finite (" + std::to_string(par.nominal) +
+                                             "; a division by zero or a value out of range?)");
       param_names_.add(p.name, {expr::VarKind::parameter, static_cast<int>(m_.parameters.size())});
       m_.parameters.push_back(std::move(par));
     }
@@ -543,8 +544,8 @@ class Builder {
 
   void check_nominal() {
     const std::vector<double> p = m_.nominal_parameters();
-    const std::string why = check_parameters(m_, p.data());
-    if (!why.empty()) throw InputError({spec_.file, 0, 0}, "scene", why);
+    if (const auto problem = find_parameter_problem(m_, p.data()))
+      throw InputError(problem->where, problem->key, problem->message);
   }
 
   const SceneSpec& spec_;
@@ -560,38 +561,68 @@ Model build_model(const SceneSpec& spec, const std::map<std::string, double>& ov
   return Builder(spec, overrides).build();
 }
 
-std::string check_parameters(const Model& model, const double* parameters) {
+std::optional<ParameterProblem> find_parameter_problem(const Model& model, const double* parameters) {
   Workspace<double> ws(model);
-  std::string why;
   set_parameters(model, ws, parameters);
+  const SceneSpec& spec = model.spec;
+  auto problem = [](std::string message, SourceLocation where, std::string key) {
+    return std::optional<ParameterProblem>(ParameterProblem{std::move(message), std::move(where), std::move(key)});
+  };
   for (int i = 0; i < model.nparam(); ++i)
-    if (!std::isfinite(ws.parameters[i])) return "parameter '" + model.parameters[i].name + "' is not finite";
+    if (!std::isfinite(ws.parameters[i])) {
+      const std::size_t k = static_cast<std::size_t>(i);
+      const SourceLocation w = k < spec.parameters.size() ? spec.parameters[k].value.where : SourceLocation{spec.file, 0, 0};
+      const std::string key = k < spec.parameters.size() ? spec.parameters[k].value.key : "scene.parameters";
+      return problem("parameter '" + model.parameters[i].name + "' is not finite (" + std::to_string(ws.parameters[i]) +
+                         "; a division by zero or a value out of range?)",
+                     w, key);
+    }
   for (Slot s : model.parameter_slots)
-    if (!std::isfinite(ws.values[s]))
-      return "expression '" + model.expressions[s].text() + "' is not finite (" + std::to_string(ws.values[s]) + ")";
+    if (!std::isfinite(ws.values[s])) {
+      const expr::Expression& e = model.expressions[s];
+      return problem("expression '" + e.text() + "' is not finite (" + std::to_string(ws.values[s]) +
+                         "; a division by zero or a value out of range?)",
+                     e.where(), e.key());
+    }
   for (int b = 0; b < model.nbody(); ++b) {
     const std::string& name = model.bodies[b].name;
+    const BodySpec& bs = spec.bodies[static_cast<std::size_t>(b)];
     const double m = ws.mass[b];
-    if (!(m > 0)) return "body '" + name + "': mass must be > 0, found " + std::to_string(m);
+    if (!(m > 0)) return problem("body '" + name + "': mass must be > 0, found " + std::to_string(m), bs.mass.where, bs.mass.key);
     const Eigen::Matrix3d I = ws.inertia_body[b];
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
     const Eigen::Vector3d ev = eig.eigenvalues();
     const double scale = std::max(1e-300, ev.cwiseAbs().maxCoeff());
     if (ev.minCoeff() < -1e-12 * scale)
-      return "body '" + name + "': inertia is not positive semi-definite (principal moments " +
-             std::to_string(ev[0]) + ", " + std::to_string(ev[1]) + ", " + std::to_string(ev[2]) + ")";
+      return problem("body '" + name + "': inertia is not positive semi-definite (principal moments " +
+                         std::to_string(ev[0]) + ", " + std::to_string(ev[1]) + ", " + std::to_string(ev[2]) + ")",
+                     bs.where, bs.key + ".inertia");
     if (ev[0] + ev[1] < ev[2] - 1e-9 * scale)
-      return "body '" + name + "': inertia violates the triangle inequality (principal moments " +
-             std::to_string(ev[0]) + " + " + std::to_string(ev[1]) + " < " + std::to_string(ev[2]) + ")";
+      return problem("body '" + name + "': inertia violates the triangle inequality (principal moments " +
+                         std::to_string(ev[0]) + " + " + std::to_string(ev[1]) + " < " + std::to_string(ev[2]) + ")",
+                     bs.where, bs.key + ".inertia");
   }
-  for (const auto& j : model.joints) {
-    if (j.axis[0] >= 0 && !(ws.joint_axis[&j - model.joints.data()].norm() > 0))
-      return "joint '" + j.name + "': axis has zero length";
-    if (j.axis2[0] >= 0 && !(ws.joint_axis2[&j - model.joints.data()].norm() > 0))
-      return "joint '" + j.name + "': second axis has zero length";
+  for (std::size_t ji = 0; ji < model.joints.size(); ++ji) {
+    const Joint& j = model.joints[ji];
+    const JointSpec& js = spec.joints[ji];
+    const bool universal = j.type == JointType::universal;
+    auto axis_where = [&](int which) {
+      if (universal && js.axes.size() > static_cast<std::size_t>(which)) return js.axes[static_cast<std::size_t>(which)][0].where;
+      if (js.axis) return (*js.axis)[0].where;
+      return js.where;
+    };
+    const std::string axis_key = universal ? js.key + ".axes" : js.key + ".axis";
+    if (j.axis[0] >= 0 && !(ws.joint_axis[ji].norm() > 0))
+      return problem("joint '" + j.name + "': axis has zero length", axis_where(0), universal ? axis_key + "[0]" : axis_key);
+    if (j.axis2[0] >= 0 && !(ws.joint_axis2[ji].norm() > 0))
+      return problem("joint '" + j.name + "': second axis has zero length", axis_where(1), axis_key + "[1]");
   }
-  (void)why;
-  return "";
+  return std::nullopt;
+}
+
+std::string check_parameters(const Model& model, const double* parameters) {
+  const auto p = find_parameter_problem(model, parameters);
+  return p ? p->message : "";
 }
 
 }  // namespace kanesens

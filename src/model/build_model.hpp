@@ -2,6 +2,7 @@
 // and compiles every expression once. Errors are InputErrors naming file:line:column and key.
 #pragma once
 #include <map>
+#include <optional>
 #include <string>
 
 #include "model/model.hpp"
@@ -16,5 +17,14 @@ Model build_model(const SceneSpec& spec, const std::map<std::string, double>& ov
 // satisfying the triangle inequality, non-zero axes, finite values). Returns "" when valid, else
 // a message naming the body/joint. Used at build (nominal values) and for every sample.
 std::string check_parameters(const Model& model, const double* parameters);
+
+// The first problem check_parameters() finds, with where it was written: the offending
+// expression, the body's mass or inertia, the joint's axis (file:line:column and key path).
+struct ParameterProblem {
+  std::string message;
+  SourceLocation where;
+  std::string key;
+};
+std::optional<ParameterProblem> find_parameter_problem(const Model& model, const double* parameters);
 
 }  // namespace kanesens

@@ -1,24 +1,29 @@
 #include "parallel/ensemble.hpp"
 
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <csignal>
 #include <cstdlib>
 
 #include <chrono>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 
 #include "io/run_file.hpp"
 #include "model/build_model.hpp"
 #include "parallel/mpi_session.hpp"
+#include "parallel/stop_signal.hpp"
 #include "sim/simulate.hpp"
 #include "study/design.hpp"
 #include "study/parse_sampling.hpp"
 #include "study/parse_vary.hpp"
 #include "study/study_spec.hpp"
+#include "study/yaml_read.hpp"
 #include "util/version.hpp"
 
 namespace kanesens::parallel {
@@ -52,6 +57,119 @@ std::string utc_now() {
   return buf;
 }
 
+// Rank 0's string on every rank.
+std::string broadcast_string(MPI_Comm comm, std::string s) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  unsigned long long n = s.size();
+  check_mpi(MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, comm), "MPI_Bcast");
+  s.resize(static_cast<std::size_t>(n));
+  if (n > 0) check_mpi(MPI_Bcast(s.data(), static_cast<int>(n), MPI_CHAR, 0, comm), "MPI_Bcast");
+  return s;
+}
+
+std::string human_bytes(double b) {
+  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+  int u = 0;
+  while (b >= 1024 && u < 6) {
+    b /= 1024;
+    ++u;
+  }
+  char buf[64];
+  std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", b, units[u]);
+  return buf;
+}
+
+// Bytes the run file will take on disk: every per-sample dataset is allocated (and filled) when
+// the file is created (run_schema.cpp), so this is close to the final size. In double precision
+// to stay meaningful for absurd sizes (1e9 samples × 1e7 times).
+double estimate_file_bytes(const io::RunLayout& l) {
+  const double T = static_cast<double>(l.times.size()), n = static_cast<double>(l.state_names.size());
+  const double S = l.record_sensitivities ? static_cast<double>(l.sensitivity_names.size()) : 0.0;
+  const double values = static_cast<double>(l.parameter_names.size()) + n + (l.record_states ? T * n : 0.0) +
+                        T * n * S + static_cast<double>(l.output_names.size()) * T +
+                        static_cast<double>(l.stat_names.size());
+  const double per_sample = 8.0 * values + static_cast<double>(io::RunFile::message_size) + 4.0 + 8.0;
+  double text = 0;
+  for (const auto& [k, v] : l.text_attributes) text += static_cast<double>(k.size() + v.size());
+  return static_cast<double>(l.nsamples) * per_sample + 8.0 * T + text + (1 << 20);  // + 1 MiB of HDF5 metadata
+}
+
+// Rank 0 checks, before anything is created, that the output can be written: its directory
+// exists and is writable, it is not a directory, it does not exist (unless --resume or
+// --overwrite), and, for a new file, that the file system has room for it (statvfs). Returns
+// the formatted InputError line, or "" when all is well.
+std::string check_output(const std::string& output, const RunOptions& opt, const io::RunLayout& layout,
+                         const StudySpec& st) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path out(output);
+  const fs::path dir = out.parent_path().empty() ? fs::path(".") : out.parent_path();
+  auto error = [](const std::string& key, const std::string& what, SourceLocation where = {}) {
+    return InputError::format(where, key, what);
+  };
+  if (opt.resume && opt.overwrite) return error("--resume", "--resume and --overwrite exclude each other");
+  if (!fs::exists(dir, ec)) return error("-o", "cannot write '" + output + "': directory '" + dir.string() + "' does not exist");
+  if (!fs::is_directory(dir, ec)) return error("-o", "cannot write '" + output + "': '" + dir.string() + "' is not a directory");
+  const bool exists = fs::exists(out, ec);
+  if (exists && fs::is_directory(out, ec)) return error("-o", "'" + output + "' is a directory; name an .h5 file");
+  if (opt.resume) {
+    if (!exists) return error("--resume", "no file '" + output + "' to resume; run without --resume to start it");
+    if (::access(output.c_str(), R_OK | W_OK) != 0)
+      return error("--resume", "cannot open '" + output + "' for reading and writing: " + std::strerror(errno));
+    return "";  // its space was allocated when it was created
+  }
+  if (exists && !opt.overwrite)
+    return error("-o", "output file '" + output + "' already exists; pass --overwrite to replace it or --resume to continue it");
+  if (::access(dir.c_str(), W_OK) != 0)
+    return error("-o", "cannot write '" + output + "': directory '" + dir.string() + "' is not writable (" + std::strerror(errno) + ")");
+  // Fault injection for the disk-full test: skip this check so that HDF5 itself hits ENOSPC.
+  const bool skip_space_check = std::getenv("KANESENS_FAULT_IGNORE_FREE_SPACE") != nullptr;
+  struct statvfs fsinfo;
+  if (!skip_space_check && ::statvfs(dir.c_str(), &fsinfo) == 0) {
+    const double free_bytes = static_cast<double>(fsinfo.f_bavail) * static_cast<double>(fsinfo.f_frsize);
+    const double need = estimate_file_bytes(layout);
+    if (need > free_bytes) {
+      const std::size_t T = layout.times.size(), n = layout.state_names.size();
+      const std::size_t S = layout.record_sensitivities ? layout.sensitivity_names.size() : 0;
+      const SourceLocation where = st.sampling ? st.sampling_where : SourceLocation{st.file, 0, 0};
+      return error("sampling.samples",
+                   "the output would need about " + human_bytes(need) + " (" + std::to_string(layout.nsamples) +
+                       " samples x " + std::to_string(T) + " times x " + std::to_string(n) + " states x (1 + " +
+                       std::to_string(S) + " sensitivities) x 8 bytes, plus per-sample metadata) but the file system of '" +
+                       dir.string() + "' has " + human_bytes(free_bytes) +
+                       " free; use fewer samples or outputs, record less, or write elsewhere with -o",
+                   where);
+    }
+  }
+  return "";
+}
+
+// An I/O error, told with what the user can do about it: the file, whether the disk is full
+// (free space below what the file needs, or below 4 MiB once the file exists), and what state
+// the file is in. `need`: estimated bytes of the file being created (0 once it exists).
+[[noreturn]] void rethrow_io_error(const std::exception& e, const std::string& output, const std::string& study,
+                                   double need) {
+  const bool created = need == 0;
+  std::string what = std::string(created ? "writing '" : "creating '") + output + "' failed";
+  const std::filesystem::path dir =
+      std::filesystem::path(output).parent_path().empty() ? "." : std::filesystem::path(output).parent_path();
+  struct statvfs fsinfo;
+  if (::statvfs(dir.c_str(), &fsinfo) == 0) {
+    const double free_bytes = static_cast<double>(fsinfo.f_bavail) * static_cast<double>(fsinfo.f_frsize);
+    if (created ? free_bytes < 4.0 * (1 << 20) : free_bytes < need)
+      what += ": the disk is full (the file system of '" + dir.string() + "' has " + human_bytes(free_bytes) +
+              " free" + (created ? "" : ", the file needs about " + human_bytes(need)) + ")";
+  }
+  what += std::string(" [") + e.what() + "]";
+  if (created)
+    what += "; samples with status 1 are intact: free space, then finish with: kanesens run " + study + " -o " +
+            output + " --resume";
+  else
+    what += "; no output was written: free space (or choose another -o) and run again";
+  throw std::runtime_error(what);
+}
+
 study::Design make_design(const StudySpec& st) {
   std::vector<study::VariedInput> inputs = study::parse_vary(st.vary, {st.file, 0, 0});
   study::SamplingSpec spec;
@@ -64,7 +182,118 @@ study::Design make_design(const StudySpec& st) {
   return study::Design(spec, std::move(inputs));
 }
 
+// Everything a run needs before it touches the output file: the study, the compiled model, the
+// design, the resolved input names and the file layout. Construction validates all of it and
+// throws InputError (file:line:column, key path) for bad input.
+std::map<std::string, double> parameter_overrides(const StudySpec& st) {
+  std::map<std::string, double> out;
+  for (const auto& [name, v] : st.set_inputs)
+    for (const auto& p : st.scene.parameters)
+      if (p.name == name) out[name] = v;
+  return out;
+}
+
+std::vector<std::string> set_arguments(const RunOptions& opt) {
+  std::vector<std::string> set = opt.set;
+  if (opt.samples > 0) set.push_back("sampling.samples=" + std::to_string(opt.samples));
+  return set;
+}
+
+// Where `vary:` names input `name` (its key), for messages about the name.
+SourceLocation vary_key_location(const StudySpec& st, const std::string& name) {
+  if (st.vary && st.vary.IsMap())
+    for (const auto& kv : st.vary)
+      if (kv.first.IsScalar() && kv.first.Scalar() == name) return study::location_of(kv.first, {st.file, 0, 0});
+  return st.vary_where;
+}
+
+InputRef resolve_at(const Model& model, const std::string& name, const std::string& key, const SourceLocation& where) {
+  try {
+    return resolve_input(model, name, key);
+  } catch (const InputError& e) {
+    throw InputError(where, e.key_path(), e.detail());
+  }
+}
+
+struct Prepared {
+  Prepared(const std::string& study_path, const RunOptions& opt, int nranks)
+      : set(set_arguments(opt)),
+        st(parse_study_file(study_path, set)),
+        model(build_model(st.scene, parameter_overrides(st))),
+        base(model),
+        design(make_design(st)) {
+    const std::map<std::string, double> overrides = parameter_overrides(st);
+    for (const auto& [name, v] : st.set_inputs)
+      if (!overrides.count(name)) base.set(resolve_input(model, name, "--set " + name), v);
+    for (const auto& in : design.inputs())
+      varied.push_back(resolve_at(model, in.name, "vary." + in.name, vary_key_location(st, in.name)));
+    for (std::size_t i = 0; i < st.sensitivities.size(); ++i)
+      sens.push_back(resolve_at(model, st.sensitivities[i], "sensitivities[" + std::to_string(i) + "]",
+                                i < st.sensitivity_where.size() ? st.sensitivity_where[i] : SourceLocation{st.file, 0, 0}));
+
+    flags.states = st.record.count("states") > 0;
+    flags.sensitivities = st.record.count("sensitivities") > 0 && !sens.empty();
+    flags.energy = st.record.count("energy") > 0;
+    flags.multipliers = st.record.count("multipliers") > 0 && model.nconstraint_rows > 0;
+    flags.constraint_residual = st.record.count("constraint_residual") > 0 && model.nconstraint_rows > 0;
+    if (st.record.count("sensitivities") && sens.empty())
+      throw InputError(st.record_where, "record", "'sensitivities' is recorded but the study lists no sensitivities");
+    if (!flags.sensitivities) sens.clear();  // what is not recorded is not computed
+
+    layout.times = st.output_times;
+    layout.state_names = model.state_names;
+    for (const auto& in : design.inputs()) layout.parameter_names.push_back(in.name);
+    for (const auto& s : sens) layout.sensitivity_names.push_back(s.name);
+    if (flags.energy) layout.output_names.push_back("energy");
+    if (flags.constraint_residual) {
+      layout.output_names.push_back("position_residual");
+      layout.output_names.push_back("velocity_residual");
+    }
+    layout.constraint_names = model.constraint_row_names;
+    layout.stat_names = kStatNames;
+    layout.nsamples = design.size();
+    layout.record_states = flags.states;
+    layout.record_sensitivities = flags.sensitivities;
+    layout.record_multipliers = flags.multipliers;
+    std::string hash_input = st.text + "\n--scene--\n" + st.scene.text;
+    for (const auto& s : set) hash_input += "\n--set " + s;
+    layout.text_attributes = {{"kanesens_version", version_short()},
+                              {"kanesens_build", version_report()},
+                              {"scene_yaml", st.scene.text},
+                              {"study_yaml", st.text},
+                              {"study_file", st.file},
+                              {"set_arguments", [&] { std::string s; for (auto& x : set) s += (s.empty() ? "" : " ") + x; return s; }()},
+                              {"created_utc", utc_now()},
+                              {"sampling_method", std::string(study::method_name(design.spec().method))},
+                              {"study_hash", fnv1a_hex(hash_input)}};
+    layout.number_attributes = {{"mpi_ranks", nranks}, {"seed", static_cast<double>(design.spec().seed)},
+                                {"samples", static_cast<double>(design.size())}};
+    if (design.spec().method == study::SamplingMethod::saltelli) {
+      layout.number_attributes["saltelli_base_samples"] = static_cast<double>(design.spec().samples);
+      layout.text_attributes["saltelli_order"] = "per base point j: A_j, B_j, AB_j^(1..P)";
+    }
+    if (design.spec().method == study::SamplingMethod::morris) {
+      layout.number_attributes["morris_trajectories"] = static_cast<double>(design.spec().trajectories);
+      layout.number_attributes["morris_levels"] = static_cast<double>(design.spec().morris_levels);
+      layout.number_attributes["morris_delta"] = design.morris_delta();
+    }
+  }
+
+  std::vector<std::string> set;
+  StudySpec st;
+  Model model;
+  SampleInputs base;
+  study::Design design;
+  std::vector<InputRef> varied, sens;
+  RecordFlags flags;
+  io::RunLayout layout;
+};
+
 }  // namespace
+
+void validate_study(const std::string& study_path, const RunOptions& options) {
+  const Prepared prepared(study_path, options, 1);
+}
 
 RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunOptions& opt) {
   const auto t_start = Clock::now();
@@ -72,81 +301,37 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &nranks);
 
-  std::vector<std::string> set = opt.set;
-  if (opt.samples > 0) set.push_back("sampling.samples=" + std::to_string(opt.samples));
-  const StudySpec st = parse_study_file(study_path, set);
-  std::map<std::string, double> parameter_overrides;
-  for (const auto& [name, v] : st.set_inputs)
-    for (const auto& p : st.scene.parameters)
-      if (p.name == name) parameter_overrides[name] = v;
-  const Model model = build_model(st.scene, parameter_overrides);
-  SampleInputs base(model);
-  for (const auto& [name, v] : st.set_inputs)
-    if (!parameter_overrides.count(name)) base.set(resolve_input(model, name, "--set " + name), v);
-
-  const study::Design design = make_design(st);
-  std::vector<InputRef> varied;
-  for (const auto& in : design.inputs()) varied.push_back(resolve_input(model, in.name, "vary." + in.name));
-  std::vector<InputRef> sens;
-  for (std::size_t i = 0; i < st.sensitivities.size(); ++i)
-    sens.push_back(resolve_input(model, st.sensitivities[i], "sensitivities[" + std::to_string(i) + "]"));
-
-  RecordFlags flags;
-  flags.states = st.record.count("states") > 0;
-  flags.sensitivities = st.record.count("sensitivities") > 0 && !sens.empty();
-  flags.energy = st.record.count("energy") > 0;
-  flags.multipliers = st.record.count("multipliers") > 0 && model.nconstraint_rows > 0;
-  flags.constraint_residual = st.record.count("constraint_residual") > 0 && model.nconstraint_rows > 0;
-  if (st.record.count("sensitivities") && sens.empty())
-    throw InputError({st.file, 0, 0}, "record", "'sensitivities' is recorded but the study lists no sensitivities");
-  if (!flags.sensitivities) sens.clear();  // what is not recorded is not computed
-
-  io::RunLayout layout;
-  layout.times = st.output_times;
-  layout.state_names = model.state_names;
-  for (const auto& in : design.inputs()) layout.parameter_names.push_back(in.name);
-  for (const auto& s : sens) layout.sensitivity_names.push_back(s.name);
-  if (flags.energy) layout.output_names.push_back("energy");
-  if (flags.constraint_residual) {
-    layout.output_names.push_back("position_residual");
-    layout.output_names.push_back("velocity_residual");
-  }
-  layout.constraint_names = model.constraint_row_names;
-  layout.record_multipliers = flags.multipliers;
-  layout.stat_names = kStatNames;
-  layout.nsamples = design.size();
-  layout.record_states = flags.states;
-  layout.record_sensitivities = flags.sensitivities;
-  std::string hash_input = st.text + "\n--scene--\n" + st.scene.text;
-  for (const auto& s : set) hash_input += "\n--set " + s;
-  layout.text_attributes = {{"kanesens_version", version_short()},
-                            {"kanesens_build", version_report()},
-                            {"scene_yaml", st.scene.text},
-                            {"study_yaml", st.text},
-                            {"study_file", st.file},
-                            {"set_arguments", [&] { std::string s; for (auto& x : set) s += (s.empty() ? "" : " ") + x; return s; }()},
-                            {"created_utc", utc_now()},
-                            {"sampling_method", std::string(study::method_name(design.spec().method))},
-                            {"study_hash", fnv1a_hex(hash_input)}};
-  layout.number_attributes = {{"mpi_ranks", nranks}, {"seed", static_cast<double>(design.spec().seed)},
-                              {"samples", static_cast<double>(design.size())}};
-  if (design.spec().method == study::SamplingMethod::saltelli) {
-    layout.number_attributes["saltelli_base_samples"] = static_cast<double>(design.spec().samples);
-    layout.text_attributes["saltelli_order"] = "per base point j: A_j, B_j, AB_j^(1..P)";
-  }
-  if (design.spec().method == study::SamplingMethod::morris) {
-    layout.number_attributes["morris_trajectories"] = static_cast<double>(design.spec().trajectories);
-    layout.number_attributes["morris_levels"] = static_cast<double>(design.spec().morris_levels);
-    layout.number_attributes["morris_delta"] = design.morris_delta();
-  }
+  const Prepared prepared(study_path, opt, nranks);
+  const StudySpec& st = prepared.st;
+  const Model& model = prepared.model;
+  const SampleInputs& base = prepared.base;
+  const study::Design& design = prepared.design;
+  const std::vector<InputRef>& varied = prepared.varied;
+  const std::vector<InputRef>& sens = prepared.sens;
+  const RecordFlags& flags = prepared.flags;
+  const io::RunLayout& layout = prepared.layout;
 
   std::string output = opt.output;
   if (output.empty()) output = std::filesystem::path(study_path).stem().string() + ".h5";
-  if (opt.resume && opt.overwrite) throw InputError({}, "--resume", "--resume and --overwrite exclude each other");
-  if (opt.resume && !std::filesystem::exists(output))
-    throw InputError({}, "--resume", "no file '" + output + "' to resume; run without --resume to start it");
-  io::RunFile file = opt.resume ? io::RunFile::open_for_resume(comm, output, layout)
-                                : io::RunFile::create(comm, output, layout, opt.overwrite);
+  // Every rank takes rank 0's verdict, so all throw the same InputError (one line, exit 2).
+  if (const std::string problem = broadcast_string(comm, rank == 0 ? check_output(output, opt, layout, st) : "");
+      !problem.empty())
+    throw InputError({}, "", problem);
+  install_stop_handlers();
+  io::RunFile file = [&] {
+    if (!opt.resume) {
+      try {
+        return io::RunFile::create(comm, output, layout, opt.overwrite);
+      } catch (const std::runtime_error& e) {
+        rethrow_io_error(e, output, study_path, estimate_file_bytes(layout));
+      }
+    }
+    try {  // a file that is not ours, or of another study: every rank fails alike
+      return io::RunFile::open_for_resume(comm, output, layout);
+    } catch (const std::runtime_error& e) {
+      throw InputError({}, "--resume", e.what());
+    }
+  }();
   // Samples to run, by position: all of them (no list: memory per rank does not grow with the
   // number of samples), or with --resume those whose status is still 0.
   std::vector<long long> pending;
@@ -179,102 +364,126 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
   const long long kill_after = kill_env ? std::atoll(kill_env) : -1;
   long long written = 0;
   auto last_progress = Clock::now();
-
+  // Rows of consecutive samples are written together: one H5Dwrite per dataset per block.
   io::SampleBlock block;
   auto flush_block = [&] {
     const auto tw = Clock::now();
-    file.write_samples(block);
+    try {
+      file.write_samples(block);
+    } catch (const std::runtime_error& e) {
+      rethrow_io_error(e, output, study_path, 0);
+    }
     io_s += seconds_since(tw);
     written += block.count;
     block.clear();
     if (kill_after > 0 && written >= kill_after) std::raise(SIGKILL);
   };
-  for (;;) {
-    auto t0 = Clock::now();
-    long long chunk = opt.chunk;
-    if (chunk <= 0) {
-      // Guided: a quarter of the remaining work per rank, at most 64, at least 1.
-      const long long seen = next.read();
-      chunk = std::clamp((npending - seen) / (4LL * nranks), 1LL, 64LL);
-    }
-    const long long first = next.fetch_add(chunk);
-    sched_s += seconds_since(t0);
-    if (first >= npending) break;
-    const long long last = std::min(npending, first + chunk);
-    for (long long pos = first; pos < last; ++pos) {
-      const long long i = opt.resume ? pending[static_cast<std::size_t>(pos)] : pos;
-      t0 = Clock::now();
-      SampleInputs in = base;
-      design.sample(i, values);
-      for (std::size_t d = 0; d < values.size(); ++d) in.set(varied[d], values[d]);
-      int status = 1;
-      std::string message;
-      std::fill(y0.begin(), y0.end(), std::nan(""));
-      std::fill(stats.begin(), stats.end(), std::nan(""));
-      try {
-        problem.set_sample(in);
-        problem.initial_state(y0.data());
-        simulate(problem, integrator, st.output_times, flags, traj);
-        const auto& s = traj.result.stats;
-        stats = {static_cast<double>(s.steps), static_cast<double>(s.rhs_evals), static_cast<double>(s.jac_evals),
-                 static_cast<double>(s.nonlin_iters), static_cast<double>(s.error_test_fails),
-                 static_cast<double>(s.sens_rhs_evals), s.wall_seconds};
-        if (!traj.result.ok()) {
-          status = traj.result.status;
-          message = traj.result.message;
-        }
-      } catch (const InputError& e) {
-        status = kStatusInvalidInputs;
-        message = e.detail();
-        resize_trajectory(traj, problem, st.output_times.size(), flags);
-      } catch (const std::exception& e) {
-        status = kStatusException;
-        message = e.what();
-        resize_trajectory(traj, problem, st.output_times.size(), flags);
+
+  int stopped_by = 0;
+  try {
+    for (;;) {
+      if ((stopped_by = stop_signal()) != 0) {
+        // Push the shared counter past the end: the other ranks stop at their next claim even
+        // if the signal reached only this process.
+        next.fetch_add(npending);
+        break;
       }
-      compute_s += seconds_since(t0);
-      (status == 1 ? local_ok : local_failed)++;
-      io::SampleRow row;
-      row.index = i;
-      row.status = status;
-      row.message = message;
-      row.parameters = values;
-      row.initial_state = y0;
-      row.states = traj.states;
-      row.sensitivities = traj.sensitivities;
-      outputs.clear();  // [output][time], in layout.output_names order
-      outputs.insert(outputs.end(), traj.energy.begin(), traj.energy.end());
-      outputs.insert(outputs.end(), traj.position_residual.begin(), traj.position_residual.end());
-      outputs.insert(outputs.end(), traj.velocity_residual.begin(), traj.velocity_residual.end());
-      row.outputs = outputs;
-      row.multipliers = traj.multipliers;
-      row.stats = stats;
-      // Rows of consecutive samples are written together (one H5Dwrite per dataset per block).
-      if (block.count > 0 && i != block.first + block.count) flush_block();
-      block.append(row);
+      auto t0 = Clock::now();
+      long long chunk = opt.chunk;
+      if (chunk <= 0) {
+        // Guided: a quarter of the remaining work per rank, at most 64, at least 1.
+        const long long seen = next.read();
+        chunk = std::clamp((npending - seen) / (4LL * nranks), 1LL, 64LL);
+      }
+      const long long first = next.fetch_add(chunk);
+      sched_s += seconds_since(t0);
+      if (first >= npending) break;
+      const long long last = std::min(npending, first + chunk);
+      for (long long pos = first; pos < last && stop_signal() == 0; ++pos) {  // unstarted ones stay status 0
+        const long long i = opt.resume ? pending[static_cast<std::size_t>(pos)] : pos;
+        t0 = Clock::now();
+        SampleInputs in = base;
+        int status = 1;
+        std::string message;
+        std::fill(values.begin(), values.end(), std::nan(""));
+        std::fill(y0.begin(), y0.end(), std::nan(""));
+        std::fill(stats.begin(), stats.end(), std::nan(""));
+        try {
+          // Inside the try: a quantile can overflow (Boost.Math throws std::overflow_error for
+          // a lognormal far in its tail), which is this sample's failure, not the run's.
+          design.sample(i, values);
+          for (std::size_t d = 0; d < values.size(); ++d) in.set(varied[d], values[d]);
+          problem.set_sample(in);
+          problem.initial_state(y0.data());
+          simulate(problem, integrator, st.output_times, flags, traj);
+          const auto& s = traj.result.stats;
+          stats = {static_cast<double>(s.steps), static_cast<double>(s.rhs_evals), static_cast<double>(s.jac_evals),
+                   static_cast<double>(s.nonlin_iters), static_cast<double>(s.error_test_fails),
+                   static_cast<double>(s.sens_rhs_evals), s.wall_seconds};
+          if (!traj.result.ok()) {
+            status = traj.result.status;
+            message = traj.result.message;
+          }
+        } catch (const InputError& e) {
+          status = kStatusInvalidInputs;
+          message = e.detail();
+          resize_trajectory(traj, problem, st.output_times.size(), flags);
+        } catch (const std::exception& e) {
+          status = kStatusException;
+          message = e.what();
+          resize_trajectory(traj, problem, st.output_times.size(), flags);
+        }
+        compute_s += seconds_since(t0);
+        (status == 1 ? local_ok : local_failed)++;
+        io::SampleRow row;
+        row.index = i;
+        row.status = status;
+        row.message = message;
+        row.parameters = values;
+        row.initial_state = y0;
+        row.states = traj.states;
+        row.sensitivities = traj.sensitivities;
+        outputs.clear();  // [output][time], in layout.output_names order
+        outputs.insert(outputs.end(), traj.energy.begin(), traj.energy.end());
+        outputs.insert(outputs.end(), traj.position_residual.begin(), traj.position_residual.end());
+        outputs.insert(outputs.end(), traj.velocity_residual.begin(), traj.velocity_residual.end());
+        row.outputs = outputs;
+        row.multipliers = traj.multipliers;
+        row.stats = stats;
+        if (block.count > 0 && i != block.first + block.count) flush_block();
+        block.append(row);
+      }
+      flush_block();  // a chunk's samples reach the file when the chunk ends (or stops)
+      // One message per chunk, not per sample: at scale the counter on rank 0 sees one atomic
+      // per claimed chunk plus one here.
+      auto t1 = Clock::now();
+      done.fetch_add(last - first);
+      sched_s += seconds_since(t1);
+      if (progress && seconds_since(last_progress) >= 1.0) {
+        last_progress = Clock::now();
+        const long long d = done.read();
+        const double el = seconds_since(t_start);
+        const double rate = d / std::max(el, 1e-9);
+        std::fprintf(stderr, "kanesens: %lld/%lld samples, %.1f samples/s, ETA %.0f s\n", d, npending, rate,
+                     rate > 0 ? (npending - d) / rate : 0.0);
+      }
     }
-    flush_block();  // a chunk's samples reach the file when the chunk ends
-    // One message per chunk, not per sample: at scale the counter on rank 0 sees one atomic per
-    // claimed chunk plus one here.
-    t0 = Clock::now();
-    done.fetch_add(last - first);
-    sched_s += seconds_since(t0);
-    if (progress && seconds_since(last_progress) >= 1.0) {
-      last_progress = Clock::now();
-      const long long d = done.read();
-      const double el = seconds_since(t_start);
-      const double rate = d / std::max(el, 1e-9);
-      std::fprintf(stderr, "kanesens: %lld/%lld samples, %.1f samples/s, ETA %.0f s\n", d, npending, rate,
-                   rate > 0 ? (npending - d) / rate : 0.0);
-    }
+  } catch (...) {
+    // This rank cannot go on (e.g. a failed write) while the others may be mid-sample: no
+    // collective call from here on; the caller prints the error and aborts the job.
+    file.abandon();
+    throw;
   }
-  long long counts[2] = {local_ok, local_failed}, total_counts[2] = {0, 0};
+  if (stopped_by == 0) stopped_by = stop_signal();
+  long long counts[3] = {local_ok, local_failed, stopped_by}, total_counts[3] = {0, 0, 0};
   double times[3] = {io_s, sched_s, compute_s}, total_times[3] = {0, 0, 0};
   check_mpi(MPI_Allreduce(counts, total_counts, 2, MPI_LONG_LONG, MPI_SUM, comm), "MPI_Allreduce");
+  check_mpi(MPI_Allreduce(&counts[2], &total_counts[2], 1, MPI_LONG_LONG, MPI_MAX, comm), "MPI_Allreduce");
   check_mpi(MPI_Allreduce(times, total_times, 3, MPI_DOUBLE, MPI_SUM, comm), "MPI_Allreduce");
   file.close();
   sum.ok = total_counts[0];
   sum.failed = total_counts[1];
+  sum.stop_signal = static_cast<int>(total_counts[2]);
   sum.io_seconds = total_times[0];
   sum.schedule_seconds = total_times[1];
   sum.compute_seconds = total_times[2];

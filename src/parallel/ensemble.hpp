@@ -31,10 +31,20 @@ struct RunSummary {
   double compute_seconds = 0;   // summed over ranks: integrating samples
   int ranks = 1;
   std::string output;
+  // Non-zero: the run stopped early on this signal (SIGINT, SIGTERM) with ok + failed <
+  // attempted; the file is closed and complete samples are intact: finish it with --resume.
+  int stop_signal = 0;
 };
 
-// Collective over comm. Throws InputError for bad input (on every rank alike) and
-// std::runtime_error for I/O failures.
+// Collective over comm. Throws InputError for bad input (on every rank alike: bad YAML, an
+// output that exists, cannot be written or would not fit on its file system, a --resume file of
+// another study) and std::runtime_error for I/O failures. Installs SIGINT/SIGTERM handlers
+// (stop_signal.hpp): on a signal the ranks stop claiming samples, finish the ones in flight and
+// close the file; the summary's stop_signal says so.
 RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunOptions& options);
+
+// Validates what run_ensemble validates before it touches the output (study, scene, model,
+// design, input names, --set), without MPI: throws the same InputError.
+void validate_study(const std::string& study_path, const RunOptions& options);
 
 }  // namespace kanesens::parallel

@@ -1,5 +1,6 @@
 #include "parallel/mpi_session.hpp"
 
+#include <exception>
 #include <stdexcept>
 
 namespace kanesens::parallel {
@@ -46,7 +47,9 @@ SharedCounter::SharedCounter(MPI_Comm comm, long long initial) {
 }
 
 SharedCounter::~SharedCounter() {
-  if (win_ != MPI_WIN_NULL) MPI_Win_free(&win_);
+  // MPI_Win_free is collective: while an exception unwinds this rank alone (the others may be
+  // mid-sample), freeing would wait forever; the caller aborts the job instead.
+  if (win_ != MPI_WIN_NULL && std::uncaught_exceptions() == 0) MPI_Win_free(&win_);
 }
 
 long long SharedCounter::fetch_add(long long amount) {

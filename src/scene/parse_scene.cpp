@@ -220,7 +220,8 @@ SceneSpec parse_scene_node(const YAML::Node& n, const std::string& file, const s
     if (!p.IsNull()) {
       require_map(p, file, key + ".parameters");
       for (const auto& kv : p) {
-        const std::string name = kv.first.as<std::string>();
+        if (!kv.first.IsScalar()) fail(kv.first, file, key + ".parameters", "expected a parameter name, found a map or list");
+        const std::string name = kv.first.Scalar();
         s.parameters.push_back({name, read_expr(kv.second, file, key + ".parameters." + name)});
       }
     }

@@ -1,5 +1,7 @@
 #include "scene/yaml_util.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <sstream>
 
@@ -41,8 +43,16 @@ void check_keys(const YAML::Node& node, const std::string& file, const std::stri
                 std::initializer_list<const char*> allowed) {
   require_map(node, file, key);
   std::vector<std::string> names(allowed.begin(), allowed.end());
+  std::vector<std::string> seen;
   for (const auto& kv : node) {
-    const std::string k = kv.first.as<std::string>();
+    if (!kv.first.IsScalar())
+      fail(kv.first, file, key, std::string("expected a plain key, found ") + type_name(kv.first));
+    const std::string k = kv.first.Scalar();
+    // yaml-cpp keeps both entries of a repeated key and node[k] returns the first: refuse it
+    // rather than silently ignoring the second value.
+    if (std::find(seen.begin(), seen.end(), k) != seen.end())
+      fail(kv.first, file, key.empty() ? k : key + "." + k, "key '" + k + "' is given twice");
+    seen.push_back(k);
     bool ok = false;
     for (const auto& a : names) ok = ok || a == k;
     if (!ok)
@@ -67,6 +77,11 @@ ExprText read_expr(const YAML::Node& node, const std::string& file, const std::s
   if (!node.IsScalar())
     fail(node, file, key, std::string("expected a number or expression, found ") + type_name(node));
   if (node.Scalar().empty()) fail(node, file, key, "empty value");
+  // YAML's special floats (.nan, .inf, -.Inf, ...) are never valid values here.
+  std::string lower;
+  for (char c : node.Scalar()) lower.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  if (lower == ".nan" || lower == ".inf" || lower == "+.inf" || lower == "-.inf")
+    fail(node, file, key, "expected a finite number or expression, found '" + node.Scalar() + "'");
   return {node.Scalar(), location(node, file), key};
 }
 
@@ -93,7 +108,8 @@ std::vector<ExprText> read_expr_list(const YAML::Node& node, const std::string& 
 YAML::Node load(const std::string& text, const std::string& file) {
   try {
     return YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
+  } catch (const YAML::Exception& e) {  // ParserException, and anything else the loader throws
+    if (e.mark.is_null()) throw InputError({file, 0, 0}, "", "malformed YAML: " + e.msg);
     throw InputError({file, e.mark.line + 1, e.mark.column + 1}, "", "malformed YAML: " + e.msg);
   }
 }

@@ -202,12 +202,17 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
   if (const YAML::Node s = doc["sensitivities"]; s && !s.IsNull()) {
     require_sequence(s, path, "sensitivities");
     for (std::size_t i = 0; i < s.size(); ++i)
+    {
       st.sensitivities.push_back(read_string(s[i], path, "sensitivities[" + std::to_string(i) + "]"));
+      st.sensitivity_where.push_back(location(s[i], path));
+    }
   }
   st.record = {"states", "energy"};
   if (!st.sensitivities.empty()) st.record.insert("sensitivities");
+  st.record_where = {path, 0, 0};
   if (const YAML::Node r = doc["record"]; r && !r.IsNull()) {
     require_sequence(r, path, "record");
+    st.record_where = location(r, path);
     st.record.clear();
     const std::vector<std::string> allowed = {"states", "sensitivities", "multipliers", "energy", "constraint_residual"};
     for (std::size_t i = 0; i < r.size(); ++i) {

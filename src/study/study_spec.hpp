@@ -22,6 +22,8 @@ struct StudySpec {
   solve::SolverOptions solver;
   ConstraintOptions constraints;
   std::vector<std::string> sensitivities;  // parameter or initial-condition names
+  std::vector<SourceLocation> sensitivity_where;  // where each was written
+  SourceLocation record_where;
   std::set<std::string> record;  // states, sensitivities, multipliers, energy, constraint_residual
   YAML::Node sampling, vary;     // the `sampling:` and `vary:` maps (may be null)
   SourceLocation sampling_where, vary_where;

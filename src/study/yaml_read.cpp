@@ -86,9 +86,9 @@ double read_finite(const YAML::Node& node, const std::string& path, const Source
       ok = false;
     }
   }
-  if (!ok) {
+  if (!ok) {  // yaml-cpp also refuses numbers out of range (1e400) here
     throw InputError(location_of(node, file), path,
-                     "expected a number, got " + describe_node(node));
+                     "expected a finite number, got " + describe_node(node));
   }
   if (!std::isfinite(x)) {
     throw InputError(location_of(node, file), path,

@@ -166,7 +166,7 @@ TEST(ParseVary, ErrorsPointAtTheOffendingValue) {
   expect_error([] { vary("vary:\n  m2: {dist: normal, mean: 1, std: -0.1}\n"); }, 2, 36,
                "vary.m2.std", "expected std > 0, got -0.1");
   expect_error([] { vary("vary:\n  m2: {dist: normal, mean: abc, std: 0.1}\n"); }, 2, 28,
-               "vary.m2.mean", "expected a number, got 'abc'");
+               "vary.m2.mean", "expected a finite number, got 'abc'");
   expect_error([] { vary("vary:\n  m2: {dist: normal, mean: .inf, std: 0.1}\n"); }, 2, 28,
                "vary.m2.mean", "expected a finite number");
   expect_error([] { vary("vary:\n  c: {dist: lognormal, mu: 0, sigma: 0}\n"); }, 2, 38,
