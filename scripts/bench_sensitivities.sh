@@ -17,7 +17,7 @@ scene: $root/configs/nlink_chain_4.yaml
 time: {end: 10.0, outputs: 101}
 solver: {rtol: 1.0e-8, atol: 1.0e-10}
 YAML
-sets=("" "m" "m,L,c" "m,L,c,k,j1.q0,j2.q0,j3.q0,j4.q0,j1.u0,j2.u0")
+sets=("none" "m" "m,L,c" "m,L,c,k,j1.q0,j2.q0,j3.q0,j4.q0,j1.u0,j2.u0")
 "$py" - "$exe" "$work/chain4.yaml" "$k" "${sets[@]}" <<'PY'
 import json, statistics, subprocess, sys
 exe, study, k, sets = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4:]
@@ -31,7 +31,7 @@ def run(sens, rhs):
             return None, d
         walls.append(d["stats"]["wall_seconds"]); st = d["stats"]
     return statistics.median(walls), st
-base, bst = run("", "exact")
+base, bst = run("none", "exact")
 print("| S | sens RHS | median wall (ms) | wall / plain | per added sensitivity | steps | RHS evals | sens RHS evals | RHS evals for DQ |")
 print("|---:|---|---:|---:|---:|---:|---:|---:|---:|")
 print(f"| 0 | — | {base*1e3:.2f} | 1.00 | — | {bst['steps']} | {bst['rhs_evals']} | 0 | 0 |")

@@ -124,7 +124,9 @@ int run_simulate(const SimulateOptions& o) {
   for (const auto& [name, v] : study.set_inputs)
     if (!parameter_overrides.count(name)) inputs.set(resolve_input(m, name, "--set " + name), v);
   std::vector<std::string> sens_names = study.sensitivities;
-  if (!o.sens.empty()) {
+  if (o.sens == "none") {
+    sens_names.clear();
+  } else if (!o.sens.empty()) {
     sens_names.clear();
     std::size_t start = 0;
     for (;;) {
@@ -163,7 +165,7 @@ CLI::App* add_simulate(CLI::App& app, Action& action) {
   auto o = std::make_shared<SimulateOptions>();
   cmd->add_option("study", o->study, "Study YAML file")->required();
   cmd->add_option("--set", o->set, "Override a parameter (m2=0.9), an initial condition (elbow.q0=0.3) or a study setting (solver.rtol=1e-10); repeatable");
-  cmd->add_option("--sens", o->sens, "Sensitivity parameters, comma-separated (replaces the study's list)");
+  cmd->add_option("--sens", o->sens, "Sensitivity parameters, comma-separated (replaces the study's list; 'none' for none)");
   cmd->add_option("--format", o->format, "json (default) or csv");
   cmd->callback([&action, o] { action = [o] { return run_simulate(*o); }; });
   return cmd;
