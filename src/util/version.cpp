@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <sstream>
 
+#include "kanesens/git_revision.hpp"
 #include "kanesens/version_config.hpp"
 
 namespace kanesens {
