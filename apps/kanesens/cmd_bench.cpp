@@ -3,9 +3,13 @@
 //   rhs       evaluate_rhs on double: M, f, Cholesky solve, q̇          (what CVODES calls)
 //   mf        evaluate_mass_matrix_and_forcing on double: M and f alone
 //   jacobian  the exact Jacobian ∂ẏ/∂y: nq + nu directional evaluate_rhs on Dual
-// Each is timed in batches with std::chrono::steady_clock; a batch is long enough (≈ 2 ms) for
-// the clock to be accurate, and the reported time is the median over --repeat batches, so a
-// shared, noisy machine disturbs it less than a mean would. Times are per evaluation, in ns.
+// On a scene with constraints, `rhs` includes the multipliers (A M⁻¹ Aᵀ λ = b − A M⁻¹ f) at the
+// random state, which violates the constraints. Such a scene adds the right-hand sides CVODES
+// integrates at the scene's consistent initial state (the embedding needs a state that the
+// independent speeds parameterise), which is where peers are compared (Simbody's
+// realize(Acceleration), MuJoCo's mj_forward with an equality constraint):
+//   rhs_multipliers  KaneProblem::rhs, multipliers formulation
+//   rhs_embedding    KaneProblem::rhs, embedding: reconstruct u, Cᵀ M C u̇_i = Cᵀ(f − M d)
 #include <algorithm>
 #include <chrono>
 #include <iostream>
@@ -16,6 +20,7 @@
 #include "kane/equations.hpp"
 #include "model/build_model.hpp"
 #include "scene/parse_scene.hpp"
+#include "sim/kane_problem.hpp"
 #include "util/json_writer.hpp"
 
 namespace kanesens::cli {
@@ -122,6 +127,26 @@ int run_bench_rhs(const BenchOptions& o) {
     sink += jac.back();
   }));
 
+  // Constrained right-hand sides at the consistent initial state (nominal parameters).
+  std::vector<double> constrained_state;
+  if (m.nconstraint_rows > 0) {
+    for (const auto formulation :
+         {ConstraintOptions::Formulation::multipliers, ConstraintOptions::Formulation::embedding}) {
+      ConstraintOptions c;
+      c.formulation = formulation;
+      KaneProblem problem(m, {}, c);
+      problem.set_sample(SampleInputs(m));
+      std::vector<double> y0(problem.size()), y0dot(problem.size());
+      problem.initial_state(y0.data());
+      if (constrained_state.empty()) constrained_state = y0;
+      const bool multipliers = formulation == ConstraintOptions::Formulation::multipliers;
+      timings.push_back(time_it(multipliers ? "rhs_multipliers" : "rhs_embedding", o, [&] {
+        problem.rhs(0.0, y0.data(), y0dot.data());
+        sink += y0dot.back();
+      }));
+    }
+  }
+
   if (o.json) {
     JsonWriter j(std::cout);
     j.begin_object();
@@ -134,6 +159,13 @@ int run_bench_rhs(const BenchOptions& o) {
     j.key("path").value(m.evaluate_planar() ? "planar" : "3d");
     j.key("seed").value(static_cast<long long>(o.seed));
     j.key("repeat").value(o.repeat);
+    if (!constrained_state.empty()) {
+      // The consistent initial state [q; u] of the constrained timings, for peers to use.
+      j.key("nconstraint_rows").value(m.nconstraint_rows);
+      j.key("constrained_state").begin_array();
+      for (double v : constrained_state) j.value(v);
+      j.end_array();
+    }
     for (const Timing& t : timings) {
       j.key(t.name).begin_object();
       j.key("median_ns").value(t.median_ns);
