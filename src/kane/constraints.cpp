@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "ad/dual.hpp"
+#include "kane/cholesky.hpp"
 #include "kane/equations.hpp"
 #include "kane/planar.hpp"
 
@@ -211,21 +212,6 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
   }
 }
 
-// x ← (Uᵀ U)⁻¹ x with U the upper Cholesky factor of M in ws.cholesky.
-template <class S>
-static void cholesky_solve(const MatX<S>& U, int n, S* x) {
-  for (int i = 0; i < n; ++i) {
-    S s = x[i];
-    for (int k = 0; k < i; ++k) s -= U(k, i) * x[k];
-    x[i] = s / U(i, i);
-  }
-  for (int i = n - 1; i >= 0; --i) {
-    S s = x[i];
-    for (int k = i + 1; k < n; ++k) s -= U(i, k) * x[k];
-    x[i] = s / U(i, i);
-  }
-}
-
 template <class S>
 bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
   using std::sqrt;
@@ -233,7 +219,7 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
   // M⁻¹ Aᵀ, column by column.
   for (int j = 0; j < nc; ++j) {
     for (int k = 0; k < n; ++k) ws.scratch_nu[k] = ws.constraint_matrix(j, k);
-    cholesky_solve(ws.cholesky, n, ws.scratch_nu.data());
+    cholesky_solve(ws.cholesky.data(), n, n, ws.scratch_nu.data());
     for (int k = 0; k < n; ++k) ws.minv_at(k, j) = ws.scratch_nu[k];
   }
   // Schur complement and right-hand side b − A M⁻¹ f (ws.udot holds M⁻¹ f).
@@ -304,39 +290,23 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
       }
       for (int i = r; i < nc; ++i) N(i, c) = S(i - r == c ? 1 : 0);
     }
-    // Small d×d system (NᵀN) y = Nᵀ λ_p by Cholesky, stored in the trailing block of W.
-    auto G = W.bottomRightCorner(d, d);
-    for (int a = 0; a < d; ++a)
-      for (int b = 0; b <= a; ++b) {
+    // Small d×d system (NᵀN) y = Nᵀ λ_p by Cholesky, in the (no longer needed) trailing
+    // block of W; NᵀN is positive definite, N having an identity block.
+    S* G = &W(r, r);
+    const std::ptrdiff_t ldg = W.outerStride();
+    for (int b = 0; b < d; ++b)
+      for (int a = 0; a <= b; ++a) {  // upper triangle
         S s = S(0);
         for (int i = 0; i < nc; ++i) s += N(i, a) * N(i, b);
-        G(a, b) = s;
+        G[b * ldg + a] = s;
       }
-    for (int j = 0; j < d; ++j) {
-      S dj = G(j, j);
-      for (int k = 0; k < j; ++k) dj -= G(j, k) * G(j, k);
-      G(j, j) = sqrt(dj);
-      for (int i = j + 1; i < d; ++i) {
-        S s = G(i, j);
-        for (int k = 0; k < j; ++k) s -= G(i, k) * G(j, k);
-        G(i, j) = s / G(j, j);
-      }
-    }
+    cholesky_factor(G, ldg, G, ldg, d);
     for (int a = 0; a < d; ++a) {  // y = Nᵀ λ_p, kept in schur_rhs (no longer needed)
       S s = S(0);
       for (int i = 0; i < nc; ++i) s += N(i, a) * lam[i];
       ws.schur_rhs[a] = s;
     }
-    for (int i = 0; i < d; ++i) {
-      S s = ws.schur_rhs[i];
-      for (int k = 0; k < i; ++k) s -= G(i, k) * ws.schur_rhs[k];
-      ws.schur_rhs[i] = s / G(i, i);
-    }
-    for (int i = d - 1; i >= 0; --i) {
-      S s = ws.schur_rhs[i];
-      for (int k = i + 1; k < d; ++k) s -= G(k, i) * ws.schur_rhs[k];
-      ws.schur_rhs[i] = s / G(i, i);
-    }
+    cholesky_solve(G, ldg, d, ws.schur_rhs.data());
     for (int i = 0; i < nc; ++i)
       for (int a = 0; a < d; ++a) lam[i] -= N(i, a) * ws.schur_rhs[a];
   }

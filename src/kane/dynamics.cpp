@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "ad/dual.hpp"
+#include "kane/cholesky.hpp"
 #include "kane/equations.hpp"
 #include "kane/force_elements.hpp"
 #include "kane/planar_stages.hpp"
@@ -55,49 +56,13 @@ void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
   detail::add_joint_spring_dampers(m, ws, q, u);
 }
 
-namespace {
-// Σ a_i b_i over contiguous arrays; Eigen uses SIMD packets for double (the order of the
-// additions differs from a plain loop by round-off only).
-template <class S>
-S dot(const S* a, const S* b, int n) {
-  if (n == 0) return S(0);
-  return Eigen::Map<const VecX<S>>(a, n).dot(Eigen::Map<const VecX<S>>(b, n));
-}
-}  // namespace
-
 template <class S>
 bool solve_accelerations(const Model& m, Workspace<S>& ws) {
-  // Cholesky M = Uᵀ U, U upper (ws.cholesky), by dot products down contiguous columns of the
-  // column-major U: U(j, i) = (M(j, i) − Σ_{k<j} U(k, j) U(k, i)) / U(j, j) (Golub & Van Loan
-  // 2013, Alg. 4.2.1, transposed).
+  // M = Uᵀ U into ws.cholesky (kept: solve_constrained_accelerations reuses it), u̇ = M⁻¹ f.
   const int n = m.nu;
-  S* U = ws.cholesky.data();
-  const S* M = ws.mass_matrix.data();
-  auto col = [n](auto* base, int j) { return base + static_cast<std::ptrdiff_t>(j) * n; };
-  using std::sqrt;
-  for (int j = 0; j < n; ++j) {
-    S* Uj = col(U, j);
-    const S d = col(M, j)[j] - dot(Uj, Uj, j);
-    if (!(value_of(d) > 0)) return false;
-    Uj[j] = sqrt(d);
-    const S inv = S(1) / Uj[j];
-    for (int i = j + 1; i < n; ++i) {
-      S* Ui = col(U, i);
-      Ui[j] = (col(M, i)[j] - dot(Uj, Ui, j)) * inv;
-    }
-  }
-  // Uᵀ y = f by dot products down the columns, then U x = y by column axpys.
-  S* x = ws.udot.data();
-  for (int i = 0; i < n; ++i) {
-    const S* Ui = col(U, i);
-    x[i] = (ws.forcing[i] - dot(Ui, x, i)) / Ui[i];
-  }
-  for (int i = n - 1; i >= 0; --i) {
-    const S* Ui = col(U, i);
-    x[i] /= Ui[i];
-    const S xi = x[i];
-    Eigen::Map<VecX<S>>(x, i) -= xi * Eigen::Map<const VecX<S>>(Ui, i);
-  }
+  if (!cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n)) return false;
+  ws.udot = ws.forcing;
+  cholesky_solve(ws.cholesky.data(), n, n, ws.udot.data());
   return true;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ad/dual.hpp"
+#include "kane/cholesky.hpp"
 #include "kane/equations.hpp"
 
 namespace kanesens {
@@ -153,30 +154,12 @@ bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, con
       sc.Mt(b, a) = s;
     }
   }
-  // Cholesky of M̃ in place (lower), then u̇_i.
-  using std::sqrt;
-  for (int j = 0; j < ni; ++j) {
-    S dj = sc.Mt(j, j);
-    for (int k = 0; k < j; ++k) dj -= sc.Mt(j, k) * sc.Mt(j, k);
-    if (!(value_of(dj) > 0)) return false;
-    sc.Mt(j, j) = sqrt(dj);
-    for (int i = j + 1; i < ni; ++i) {
-      S s = sc.Mt(i, j);
-      for (int k = 0; k < j; ++k) s -= sc.Mt(i, k) * sc.Mt(j, k);
-      sc.Mt(i, j) = s / sc.Mt(j, j);
-    }
-  }
+  // M̃ u̇_i = f̃ by Cholesky of M̃ in place.
+  const std::ptrdiff_t ldm = sc.Mt.outerStride();
+  if (!cholesky_factor(sc.Mt.data(), ldm, sc.Mt.data(), ldm, ni)) return false;
   S* uid = ydot + m.nq;
-  for (int i = 0; i < ni; ++i) {
-    S s = sc.ft[i];
-    for (int k = 0; k < i; ++k) s -= sc.Mt(i, k) * uid[k];
-    uid[i] = s / sc.Mt(i, i);
-  }
-  for (int i = ni - 1; i >= 0; --i) {
-    S s = uid[i];
-    for (int k = i + 1; k < ni; ++k) s -= sc.Mt(k, i) * uid[k];
-    uid[i] = s / sc.Mt(i, i);
-  }
+  for (int i = 0; i < ni; ++i) uid[i] = sc.ft[i];
+  cholesky_solve(sc.Mt.data(), ldm, ni, uid);
   for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
   return true;
 }

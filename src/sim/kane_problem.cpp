@@ -1,5 +1,6 @@
 #include "sim/kane_problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -27,6 +28,11 @@ KaneProblem::KaneProblem(const Model& model, std::vector<InputRef> sensitivities
     for (int r = 0; r < c.nrows; ++r)
       if (c.holonomic[r]) holonomic_rows_.push_back(c.row_offset + r);
   if (model.nconstraint_rows > 0) ws_project_ = std::make_unique<Workspace<Dual>>(model);
+  identity_kinematics_ = std::all_of(model.joints.begin(), model.joints.end(),
+                                     [](const Joint& j) { return j.quaternion_offset < 0; });
+  projection_.zero_u = Eigen::VectorXd::Zero(model.nu);
+  projection_.g.resize(static_cast<Eigen::Index>(holonomic_rows_.size()));
+  projection_.G.resize(static_cast<Eigen::Index>(holonomic_rows_.size()), model.nq);
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
   if (options_.stabilization == ConstraintOptions::Stabilization::baumgarte) {
     // The same Baumgarte terms in every workspace, so Jacobian and sensitivities differentiate
@@ -259,56 +265,67 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
   initial_du_ = du_max;
 }
 
-int KaneProblem::project(double t, const double* y, double* corr, double, double* err) {
-  const int nq = model_.nq, nu = model_.nu, m = model_.nconstraint_rows;
+// Holonomic residual g and G = ∂g/∂q at q, on doubles. With q̇ = u for every joint (no
+// quaternions), ġ = G q̇ = G u gives G = the holonomic rows of A, from one evaluation; with
+// quaternions (q̇ = N(q) u, nq > nu) G comes from nq dual evaluations (position_constraints).
+void KaneProblem::holonomic_residual(double t, const double* q, bool jacobian) {
+  ProjectionScratch& s = projection_;
   const int mh = static_cast<int>(holonomic_rows_.size());
-  std::vector<double> q(y, y + nq);
-  Eigen::VectorXd g;
-  Eigen::MatrixXd G;
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> codG;
-  if (mh > 0) {
-    position_constraints(t, q.data(), g, &G);
-    codG.compute(G);
-    for (int iter = 0; iter < 4 && g.lpNorm<Eigen::Infinity>() > 1e-14; ++iter) {
-      const Eigen::VectorXd dq = codG.solve(g);
-      for (int i = 0; i < nq; ++i) q[i] -= dq[i];
-      position_constraints(t, q.data(), g, nullptr);
-    }
-    if (!g.allFinite()) return 1;
+  if (!identity_kinematics_) {
+    position_constraints(t, q, s.g, jacobian ? &s.G : nullptr);
+    return;
   }
-  for (int i = 0; i < nq; ++i) corr[i] = q[i] - y[i];
+  evaluate_state_expressions(model_, ws_, t, q, s.zero_u.data());
+  compute_position(model_, ws_, q);
+  compute_velocity(model_, ws_, s.zero_u.data());
+  compute_kinematic_derivatives(model_, ws_, q, s.zero_u.data());
+  compute_constraints(model_, ws_, q, s.zero_u.data());
+  for (int r = 0; r < mh; ++r) {
+    s.g[r] = ws_.position_residual[holonomic_rows_[r]];
+    if (jacobian) s.G.row(r) = ws_.constraint_matrix.row(holonomic_rows_[r]);
+  }
+}
+
+// CVODES projection (cvsPendulum_dns.c): the nearest consistent state, positions by Newton on
+// g(q) = 0 with minimum-norm steps, then speeds by the minimum-norm correction of A u + a0 = 0;
+// the error estimate is projected onto the tangent space too. Runs after every step, so its
+// storage is allocated once (ProjectionScratch) and G comes from A where it can.
+int KaneProblem::project(double t, const double* y, double* corr, double, double* err) {
+  const int nq = model_.nq, nu = model_.nu;
+  const int mh = static_cast<int>(holonomic_rows_.size());
+  ProjectionScratch& s = projection_;
+  s.q = Eigen::Map<const Eigen::VectorXd>(y, nq);
+  if (mh > 0) {
+    holonomic_residual(t, s.q.data(), true);
+    s.position.compute(s.G);
+    for (int iter = 0; iter < 4 && s.g.lpNorm<Eigen::Infinity>() > 1e-14; ++iter) {
+      s.position.solve(s.g, s.dq);
+      s.q -= s.dq;
+      holonomic_residual(t, s.q.data(), false);
+    }
+    if (!s.g.allFinite()) return 1;
+  }
+  for (int i = 0; i < nq; ++i) corr[i] = s.q[i] - y[i];
   if (embedded_) {
     // Velocities satisfy the constraints by construction; only positions drift.
     for (int k = nq; k < size(); ++k) corr[k] = 0;
-    if (err && mh > 0) {
-      const Eigen::Map<Eigen::VectorXd> eq(err, nq);
-      const Eigen::VectorXd c = codG.solve(G * eq);
-      for (int i = 0; i < nq; ++i) err[i] -= c[i];
-    }
+    if (err && mh > 0) s.position.remove_normal_component(Eigen::Map<Eigen::VectorXd>(err, nq));
     return 0;
   }
-  evaluate_state_expressions(model_, ws_, t, q.data(), y + nq);
-  compute_position(model_, ws_, q.data());
+  evaluate_state_expressions(model_, ws_, t, s.q.data(), y + nq);
+  compute_position(model_, ws_, s.q.data());
   compute_velocity(model_, ws_, y + nq);
-  compute_kinematic_derivatives(model_, ws_, q.data(), y + nq);
-  compute_constraints(model_, ws_, q.data(), y + nq);
-  const Eigen::MatrixXd A = ws_.constraint_matrix;
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> codA(A);
-  const Eigen::VectorXd du = codA.solve(Eigen::VectorXd(ws_.velocity_residual));
-  for (int k = 0; k < nu; ++k) corr[nq + k] = -du[k];
-  if (!du.allFinite()) return 1;
+  compute_kinematic_derivatives(model_, ws_, s.q.data(), y + nq);
+  compute_constraints(model_, ws_, s.q.data(), y + nq);
+  s.velocity.compute(ws_.constraint_matrix);
+  s.velocity.solve(ws_.velocity_residual, s.du);
+  for (int k = 0; k < nu; ++k) corr[nq + k] = -s.du[k];
+  if (!s.du.allFinite()) return 1;
   if (err) {
-    // Project the error estimate onto the tangent space as well: e ← e − G⁺G e, e_u ← e_u − A⁺A e_u.
-    if (mh > 0) {
-      const Eigen::Map<Eigen::VectorXd> eq(err, nq);
-      const Eigen::VectorXd c = codG.solve(G * eq);
-      for (int i = 0; i < nq; ++i) err[i] -= c[i];
-    }
-    const Eigen::Map<Eigen::VectorXd> eu(err + nq, nu);
-    const Eigen::VectorXd c = codA.solve(A * eu);
-    for (int k = 0; k < nu; ++k) err[nq + k] -= c[k];
+    // e ← e − G⁺G e (positions), e_u ← e_u − A⁺A e_u (speeds).
+    if (mh > 0) s.position.remove_normal_component(Eigen::Map<Eigen::VectorXd>(err, nq));
+    s.velocity.remove_normal_component(Eigen::Map<Eigen::VectorXd>(err + nq, nu));
   }
-  (void)m;
   return 0;
 }
 

@@ -17,6 +17,7 @@
 #include "sim/constraint_options.hpp"
 #include "sim/embedding.hpp"
 #include "sim/inputs.hpp"
+#include "sim/min_norm_solver.hpp"
 #include "solve/ode_problem.hpp"
 
 namespace kanesens {
@@ -91,6 +92,17 @@ class KaneProblem final : public solve::OdeProblem {
   void position_constraints(double t, const double* q, Eigen::VectorXd& g, Eigen::MatrixXd* G) const;
 
   void initial_state_full(double* y0) const;
+  // Holonomic residual (and G) at q into projection_.g (.G).
+  void holonomic_residual(double t, const double* q, bool jacobian);
+
+  // Storage of project(), allocated once.
+  struct ProjectionScratch {
+    Eigen::VectorXd q, dq, du, g, zero_u;
+    Eigen::MatrixXd G;
+    MinNormSolver position, velocity;
+  };
+  ProjectionScratch projection_;
+  bool identity_kinematics_ = false;  // q̇ = u for every joint: G is the holonomic rows of A
   Workspace<Dual>& dual_workspace(int i) { return ws_sens_[i] ? *ws_sens_[i] : ws_jacobian_; }
 
   ConstraintOptions options_;
