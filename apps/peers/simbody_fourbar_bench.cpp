@@ -1,0 +1,232 @@
+// Simbody peer of `kanesens bench rhs` and `kanesens simulate` on the four-bar of
+// configs/four_bar.yaml (docs/peers.md, "Four-bar: Simbody and MuJoCo"). The tree is kanesens's:
+// MobilizedBody::Pin ground→crank (at O), crank→coupler (at the crank tip, angle relative to the
+// crank), ground→rocker (at B = (a, 0)); body frames at the rod middles, rods along body x,
+// central inertia diag(0, m L²/12, m L²/12); Force::Gravity (0, −9.81, 0). So Simbody's q and u
+// are kanesens's coordinates and speeds, with no conversion.
+//
+// The loop is closed by two Constraint::PointInPlane on the rocker: the coupler's far end lies in
+// the rocker plane normal to its x axis at height b/2 and in the plane normal to its y axis at
+// height 0, i.e. at the rocker tip in x and y. That is exactly the 2 rows of kanesens's planar
+// `coincident` constraint; a Constraint::Ball would add a third (z) row that is identically
+// satisfied in this planar tree and makes the constraint matrix rank deficient.
+//
+//   simbody_fourbar_bench [--repeat R] [--batch-seconds B]
+//       times realize(Stage::Acceleration) after writing q and u (invalidating every stage from
+//       Position on) at the consistent initial state: kinematics, articulated-body forward
+//       dynamics, and the constraint multipliers (Simbody solves for them in the same realize),
+//       median over batches → JSON with q, u, udot, multipliers and the force on the coupler end.
+//   simbody_fourbar_bench --integrate rkm|cpodes --accuracy A [--repeat R]
+//       integrates t in [0, 10] from the initial state with RungeKuttaMersonIntegrator or
+//       CPodesIntegrator (BDF/Newton) at setAccuracy(A) and setConstraintTolerance(A); median wall
+//       time of R integrations → JSON with y(10), steps, realizations, projections and the final
+//       constraint residuals.
+#include <Simbody.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "four_bar_state.hpp"
+
+namespace {
+
+struct FourBar {
+  SimTK::MultibodySystem system;
+  SimTK::SimbodyMatterSubsystem matter{system};
+  SimTK::GeneralForceSubsystem forces{system};
+  SimTK::MobilizedBody::Pin crank, coupler, rocker;
+
+  FourBar() {
+    using namespace SimTK;
+    using namespace four_bar;
+    // A uniform thin rod along body x, frame at its middle: no inertia about its own axis.
+    auto rod = [](double m, double L) {
+      return Body::Rigid(MassProperties(m, Vec3(0), Inertia(0, m * L * L / 12, m * L * L / 12)));
+    };
+    crank = MobilizedBody::Pin(matter.Ground(), Transform(), rod(crank_mass, four_bar::crank),
+                               Transform(Vec3(-four_bar::crank / 2, 0, 0)));
+    coupler = MobilizedBody::Pin(crank, Transform(Vec3(four_bar::crank / 2, 0, 0)), rod(coupler_mass, four_bar::coupler),
+                                 Transform(Vec3(-four_bar::coupler / 2, 0, 0)));
+    rocker = MobilizedBody::Pin(matter.Ground(), Transform(Vec3(ground, 0, 0)), rod(rocker_mass, four_bar::rocker),
+                                Transform(Vec3(-four_bar::rocker / 2, 0, 0)));
+    const Vec3 coupler_end(four_bar::coupler / 2, 0, 0);
+    Constraint::PointInPlane(rocker, UnitVec3(1, 0, 0), four_bar::rocker / 2, coupler, coupler_end);
+    Constraint::PointInPlane(rocker, UnitVec3(0, 1, 0), 0.0, coupler, coupler_end);
+    Force::Gravity(forces, matter, Vec3(0, gravity_y, 0));
+    system.realizeTopology();
+  }
+
+  SimTK::State initial_state() const {
+    SimTK::State s = system.getDefaultState();
+    const auto y0 = four_bar::initial_state();
+    for (int i = 0; i < 3; ++i) {
+      s.updQ()[i] = y0.q[i];
+      s.updU()[i] = y0.u[i];
+    }
+    return s;
+  }
+
+  // The force the rocker exerts on the coupler end, world x and y (kanesens's `coincident`
+  // multipliers). Simbody reports constraint forces with the sign opposite to applied forces.
+  SimTK::Vec2 coupler_end_force(const SimTK::State& s) const {
+    SimTK::Vec3 f(0);
+    for (SimTK::ConstraintIndex i(0); i < matter.getNumConstraints(); ++i) {
+      const SimTK::Constraint& con = matter.getConstraint(i);
+      const SimTK::Vector_<SimTK::SpatialVec> body_forces = con.getConstrainedBodyForcesAsVector(s);
+      for (SimTK::ConstrainedBodyIndex b(0); b < con.getNumConstrainedBodies(); ++b)
+        if (con.getMobilizedBodyFromConstrainedBody(b).getMobilizedBodyIndex() == coupler.getMobilizedBodyIndex())
+          f -= body_forces[b][1];
+    }
+    return {f[0], f[1]};
+  }
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void print_array(const char* name, const SimTK::Vector& x, const char* end = ",\n") {
+  std::printf("  \"%s\": [", name);
+  for (int i = 0; i < x.size(); ++i) std::printf("%s%.17g", i ? ", " : "", x[i]);
+  std::printf("]%s", end);
+}
+
+double max_abs(const SimTK::Vector& x) { return x.size() ? SimTK::max(SimTK::abs(x)) : 0.0; }
+
+int bench_realize(int repeat, double batch_seconds) {
+  FourBar fb;
+  SimTK::State s = fb.initial_state();
+  const SimTK::Vector q = s.getQ(), u = s.getU();
+
+  double sink = 0;
+  auto run = [&](long long k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (long long i = 0; i < k; ++i) {
+      s.updQ() = q;  // invalidates Stage::Position and later
+      s.updU() = u;
+      fb.system.realize(s, SimTK::Stage::Acceleration);
+      sink += s.getUDot()[2];
+    }
+    return seconds_since(t0);
+  };
+  long long batch = 1;
+  run(batch);
+  while (true) {
+    const double t = run(batch);
+    if (t >= batch_seconds || batch > (1LL << 40)) break;
+    batch = t > 0 ? std::max(2 * batch, static_cast<long long>(1.2 * batch * batch_seconds / t)) : 2 * batch;
+  }
+  std::vector<double> ns;
+  for (int r = 0; r < repeat; ++r) ns.push_back(run(batch) / static_cast<double>(batch) * 1e9);
+  std::sort(ns.begin(), ns.end());
+  const double median = ns[ns.size() / 2];
+
+  int major = 0, minor = 0, build = 0;
+  SimTK_version_simbody(&major, &minor, &build);
+  const SimTK::Vec2 f = fb.coupler_end_force(s);
+  std::printf("{\n  \"engine\": \"simbody\",\n  \"simbody_version\": \"%d.%d.%d\",\n  \"scene\": \"four_bar\",\n"
+              "  \"nq\": %d,\n  \"nu\": %d,\n  \"constraint_rows\": %d,\n",
+              major, minor, build, s.getNQ(), s.getNU(), s.getNMultipliers());
+  std::printf("  \"repeat\": %d,\n  \"realize_acceleration\": {\"median_ns\": %.6g, \"min_ns\": %.6g, "
+              "\"evaluations_per_second\": %.6g, \"batch\": %lld, \"batches\": %d},\n",
+              repeat, median, ns.front(), 1e9 / median, batch, repeat);
+  print_array("q", q);
+  print_array("u", u);
+  print_array("udot", s.getUDot());
+  print_array("multipliers", s.getMultipliers());
+  std::printf("  \"coupler_end_force\": [%.17g, %.17g],\n", f[0], f[1]);
+  std::printf("  \"position_residual\": %.3g,\n  \"velocity_residual\": %.3g,\n", max_abs(s.getQErr()),
+              max_abs(s.getUErr()));
+  std::printf("  \"checksum\": %.17g\n}\n", sink);
+  return 0;
+}
+
+int integrate(const std::string& which, double accuracy, int repeat) {
+  FourBar fb;
+  std::vector<double> seconds;
+  SimTK::State end;
+  long long steps = 0, attempts = 0, realizations = 0, projections = 0;
+  double constraint_tolerance = 0;
+  for (int r = 0; r < repeat; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::unique_ptr<SimTK::Integrator> integ;
+    if (which == "rkm") integ = std::make_unique<SimTK::RungeKuttaMersonIntegrator>(fb.system);
+    else if (which == "cpodes") integ = std::make_unique<SimTK::CPodesIntegrator>(fb.system, SimTK::CPodes::BDF, SimTK::CPodes::Newton);
+    else { std::fprintf(stderr, "unknown integrator %s (rkm, cpodes)\n", which.c_str()); return 2; }
+    integ->setAccuracy(accuracy);
+    // Simbody projects q and u back onto the constraint manifold after every step whenever the
+    // residual exceeds this tolerance; tying it to the accuracy keeps the drift at the level of
+    // the integration error (kanesens's projection likewise uses the integrator's tolerances).
+    integ->setConstraintTolerance(accuracy);
+    // CPODES stops (and prints an error) after 500 internal steps per stepTo() by default.
+    integ->setInternalStepLimit(100000000);
+    integ->setFinalTime(four_bar::t_end);
+    integ->initialize(fb.initial_state());
+    // The first call only starts the continuous interval; step until the final time.
+    while (integ->getTime() < four_bar::t_end) {
+      const auto status = integ->stepTo(four_bar::t_end, four_bar::t_end);
+      if (status == SimTK::Integrator::EndOfSimulation && integ->getTime() < four_bar::t_end) {
+        std::fprintf(stderr, "simbody_fourbar_bench: %s at t = %.17g\n",
+                     SimTK::Integrator::getTerminationReasonString(integ->getTerminationReason()).c_str(),
+                     integ->getTime());
+        return 4;
+      }
+    }
+    seconds.push_back(seconds_since(t0));
+    end = integ->getState();
+    steps = integ->getNumStepsTaken();
+    attempts = integ->getNumStepsAttempted();
+    realizations = integ->getNumRealizations();
+    projections = integ->getNumProjections();
+    constraint_tolerance = integ->getConstraintToleranceInUse();
+  }
+  fb.system.realize(end, SimTK::Stage::Velocity);
+  std::sort(seconds.begin(), seconds.end());
+  std::printf("{\n  \"engine\": \"simbody\",\n  \"integrator\": \"%s\",\n  \"accuracy\": %.6g,\n"
+              "  \"constraint_tolerance\": %.6g,\n  \"t_end\": %.17g,\n  \"wall_seconds\": %.9g,\n"
+              "  \"min_seconds\": %.9g,\n  \"repeat\": %d,\n  \"steps\": %lld,\n  \"steps_attempted\": %lld,\n"
+              "  \"realizations\": %lld,\n  \"projections\": %lld,\n  \"position_residual\": %.3g,\n"
+              "  \"velocity_residual\": %.3g,\n",
+              which.c_str(), accuracy, constraint_tolerance, end.getTime(), seconds[seconds.size() / 2],
+              seconds.front(), repeat, steps, attempts, realizations, projections, max_abs(end.getQErr()),
+              max_abs(end.getUErr()));
+  print_array("q", end.getQ());
+  print_array("u", end.getU(), "\n}\n");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int repeat = 31;
+  double batch_seconds = 2e-3, accuracy = 1e-3;
+  std::string which;
+  for (int i = 1; i < argc; i += 2) {
+    if (i + 1 >= argc) { std::fprintf(stderr, "option %s needs a value\n", argv[i]); return 2; }
+    if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--batch-seconds")) batch_seconds = std::atof(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--integrate")) which = argv[i + 1];
+    else if (!std::strcmp(argv[i], "--accuracy")) accuracy = std::atof(argv[i + 1]);
+    else {
+      std::fprintf(stderr,
+                   "usage: %s [--repeat R] [--batch-seconds B]\n"
+                   "       %s --integrate rkm|cpodes --accuracy A [--repeat R]\n",
+                   argv[0], argv[0]);
+      return 2;
+    }
+  }
+  if (repeat < 1) { std::fprintf(stderr, "--repeat must be >= 1\n"); return 2; }
+  try {
+    return which.empty() ? bench_realize(repeat, batch_seconds) : integrate(which, accuracy, repeat);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "simbody_fourbar_bench: %s\n", e.what());
+    return 1;
+  }
+}
