@@ -1,5 +1,7 @@
 #include "solve/integrator.hpp"
 
+#include "solve/dop853.hpp"
+
 #include <cvodes/cvodes.h>
 #include <cvodes/cvodes_ls.h>
 #include <cvodes/cvodes_proj.h>
@@ -457,6 +459,8 @@ const SolverOptions& Integrator::options() const {
 
 IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const double> times,
                                         const RecordFn& record) {
+  // The explicit method has no CVODES objects; it shares the options, result and record().
+  if (impl_->options.method == Method::dop853) return integrate_dop853(problem, impl_->options, times, record);
   const auto start = std::chrono::steady_clock::now();
   Impl& im = *impl_;
   im.check_problem(problem, times);

@@ -30,8 +30,10 @@ void SolverOptions::validate(int n) const {
             atol_per_state.size());
   }
   if (max_steps <= 0) invalid("max_steps", "must be > 0", max_steps);
+  if (method == Method::dop853 && max_order != 0)
+    invalid("max_order", "must be 0 (unused) for dop853, a method of fixed order 8", max_order);
   const int order_limit = method == Method::bdf ? 5 : 12;
-  if (max_order < 0 || max_order > order_limit) {
+  if (method != Method::dop853 && (max_order < 0 || max_order > order_limit)) {
     invalid("max_order",
             (std::string("must be 0 (default) or 1..") + std::to_string(order_limit) + " for " +
              std::string(to_string(method)))
@@ -52,7 +54,15 @@ void SolverOptions::validate(int n) const {
 }
 
 std::string_view to_string(Method m) {
-  return m == Method::bdf ? "bdf" : "adams";
+  switch (m) {
+    case Method::bdf:
+      return "bdf";
+    case Method::adams:
+      return "adams";
+    case Method::dop853:
+      return "dop853";
+  }
+  return "?";
 }
 std::string_view to_string(Iteration it) {
   return it == Iteration::newton ? "newton" : "functional";

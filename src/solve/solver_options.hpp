@@ -7,7 +7,9 @@
 
 namespace kanesens::solve {
 
-enum class Method { bdf, adams };             // CV_BDF (stiff) | CV_ADAMS (non-stiff)
+// CV_BDF (stiff) | CV_ADAMS (non-stiff) | explicit Runge–Kutta 8(5,3) (non-stiff, tight
+// tolerances; solve/dop853.hpp: no Jacobian, iteration or max_order)
+enum class Method { bdf, adams, dop853 };
 enum class Iteration { newton, functional };  // Newton + dense LU | fixed point (no Jacobian)
 enum class JacobianKind { exact, dq };        // OdeProblem::jacobian | CVODES difference quotient
 enum class SensitivityMethod { simultaneous, staggered, staggered1 };  // CV_SIMULTANEOUS, ...

@@ -74,7 +74,7 @@ void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOpt
   check_keys(n, file, key, {"method", "iteration", "rtol", "atol", "max_steps", "max_order", "initial_step",
                             "max_step", "jacobian", "sensitivity", "constraints"});
   using namespace kanesens::solve;
-  if (n["method"]) o.method = read_choice<Method>(n["method"], file, key + ".method", {{"bdf", Method::bdf}, {"adams", Method::adams}});
+  if (n["method"]) o.method = read_choice<Method>(n["method"], file, key + ".method", {{"bdf", Method::bdf}, {"adams", Method::adams}, {"dop853", Method::dop853}});
   if (n["iteration"])
     o.iteration = read_choice<Iteration>(n["iteration"], file, key + ".iteration",
                                          {{"newton", Iteration::newton}, {"functional", Iteration::functional}});
@@ -130,9 +130,9 @@ void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOpt
     if (c["project_sensitivities"])
       co.project_sensitivities = read_bool(c["project_sensitivities"], file, k2 + ".project_sensitivities");
   }
-  if (co.stabilization == ConstraintOptions::Stabilization::projection && o.method != solve::Method::bdf &&
+  if (co.stabilization == ConstraintOptions::Stabilization::projection && o.method == solve::Method::adams &&
       n["constraints"])
-    fail(n, file, key, "constraint projection needs method: bdf (CVODES projects only with BDF); use stabilization: baumgarte with adams");
+    fail(n, file, key, "constraint projection needs method: bdf or dop853 (CVODES projects only with BDF); use stabilization: baumgarte with adams");
   try {
     o.validate();
   } catch (const std::invalid_argument& e) {

@@ -205,6 +205,8 @@ std::vector<Case> study_cases() {
       {"StudyNegativeRtol", Kind::study, s + "solver: {rtol: -1}\n", {"StudyNegativeRtol.yaml:15:", "solver", "rtol"}},
       {"StudyRtolWrongType", Kind::study, s + "solver: {rtol: tight}\n", {"StudyRtolWrongType.yaml:15:", "solver.rtol", "expected a number"}},
       {"StudyUnknownSolverMethod", Kind::study, s + "solver: {method: rk4}\n", {"StudyUnknownSolverMethod.yaml:15:", "solver.method", "expected one of bdf, adams"}},
+      {"StudyDop853MaxOrder", Kind::study, s + "solver: {method: dop853, max_order: 5}\n", {"StudyDop853MaxOrder.yaml:15:", "solver.max_order", "dop853"}},
+      {"StudyAdamsProjection", Kind::study, s + "solver: {method: adams, constraints: {stabilization: projection}}\n", {"StudyAdamsProjection.yaml:15:", "solver", "projection needs method: bdf or dop853"}},
       {"StudyUniformLowNotBelowHigh", Kind::study, edit(s, "low: 0.5, high: 1.5", "low: 1.5, high: 0.5"), {"StudyUniformLowNotBelowHigh.yaml:13:", "vary.m.high", "expected low < high"}},
       {"StudyUniformLowEqualsHigh", Kind::study, edit(s, "low: 0.5, high: 1.5", "low: 1, high: 1"), {"StudyUniformLowEqualsHigh.yaml:13:", "vary.m.high", "expected low < high"}},
       {"StudyNormalStdZero", Kind::study, edit(s, "{dist: uniform, low: 0.5, high: 1.5}", "{dist: normal, mean: 1, std: 0}"), {"StudyNormalStdZero.yaml:13:", "vary.m.std", "std > 0"}},

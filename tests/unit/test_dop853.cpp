@@ -1,0 +1,208 @@
+// Tests of solve/dop853 (solver.method: dop853) on the undamped oscillator x'' = −(k/m) x,
+// x(0) = x0, v(0) = 0: x = x0 cos ωt, ω = √(k/m), ∂x/∂k = −x0 t sin(ωt) / (2 m ω).
+//   - eighth order (steps forced constant): halving h divides the error by ≈ 2⁸ = 256, for the
+//     state and the sensitivity; a wrong tableau entry drops the order (this test fails);
+//   - error control: the error falls with rtol and stays within a modest factor of it;
+//   - bookkeeping: every output time is hit exactly, 12 evaluations per step, the Integrator
+//     dispatches method dop853 here;
+//   - failures as statuses: max_steps (−1), a blow-up in finite time (−3, outputs before it
+//     kept), an RHS that throws (−8, with its message).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "solve/dop853.hpp"
+#include "solve/integrator.hpp"
+
+namespace ks = kanesens::solve;
+
+namespace {
+
+class Spring : public ks::OdeProblem {
+ public:
+  explicit Spring(double k, double m = 1, double x0 = 1) : k_(k), m_(m), x0_(x0) {}
+  int size() const override { return 2; }
+  void initial_state(double* y0) const override {
+    y0[0] = x0_;
+    y0[1] = 0;
+  }
+  void rhs(double t, const double* y, double* ydot) override {
+    if (t > throw_after) throw std::runtime_error("spring broke");
+    ydot[0] = y[1];
+    ydot[1] = -k_ / m_ * y[0];
+  }
+  int num_sensitivities() const override { return sensitivities ? 1 : 0; }
+  void initial_sensitivity(int, double* s0) const override { s0[0] = s0[1] = 0; }
+  bool has_sensitivity_rhs() const override { return true; }
+  void sensitivity_rhs(double, const double* y, const double*, int, const double* s, double* sdot) override {
+    sdot[0] = s[1];
+    sdot[1] = -k_ / m_ * s[0] - y[0] / m_;
+  }
+  double omega() const { return std::sqrt(k_ / m_); }
+  double x(double t) const { return x0_ * std::cos(omega() * t); }
+  double dx_dk(double t) const { return -x0_ * t * std::sin(omega() * t) / (2 * m_ * omega()); }
+  double throw_after = 1e300;
+  bool sensitivities = true;
+
+ private:
+  double k_, m_, x0_;
+};
+
+// y' = y², y(0) = 1: y = 1/(1 − t), infinite at t = 1.
+class BlowUp : public ks::OdeProblem {
+ public:
+  int size() const override { return 1; }
+  void initial_state(double* y0) const override { y0[0] = 1; }
+  void rhs(double, const double* y, double* ydot) override { ydot[0] = y[0] * y[0]; }
+};
+
+struct Trajectory {
+  ks::IntegrationResult result;
+  std::vector<double> t, x, s;
+};
+
+Trajectory run(ks::OdeProblem& p, const ks::SolverOptions& o, const std::vector<double>& times) {
+  Trajectory r;
+  r.result = ks::integrate_dop853(p, o, times, [&](int k, double t, const double* y, const double* const* s) {
+    EXPECT_EQ(t, times[static_cast<std::size_t>(k)]);
+    r.t.push_back(t);
+    r.x.push_back(y[0]);
+    if (s) r.s.push_back(s[0][0]);
+  });
+  return r;
+}
+
+std::vector<double> grid(double end, int outputs) {
+  std::vector<double> t;
+  for (int k = 0; k < outputs; ++k) t.push_back(end * k / (outputs - 1));
+  return t;
+}
+
+ks::SolverOptions dop853(double rtol, double atol) {
+  ks::SolverOptions o;
+  o.method = ks::Method::dop853;
+  o.rtol = rtol;
+  o.atol = atol;
+  o.max_steps = 1000000;
+  return o;
+}
+
+}  // namespace
+
+TEST(Dop853, EighthOrderForStatesAndSensitivities) {
+  Spring p(4.0);
+  const std::vector<double> times = grid(8.0, 11);  // outputs 0.8 apart: multiples of every h
+  double prev_x = 0, prev_s = 0;
+  for (double h : {0.4, 0.2, 0.1}) {
+    // A tolerance no step can fail and a step bound: constant steps h (the outputs are
+    // multiples of h), so the error is the method's global error at step h.
+    ks::SolverOptions o = dop853(1e3, 1e3);
+    o.initial_step = h;
+    o.max_step = h;
+    const Trajectory r = run(p, o, times);
+    ASSERT_TRUE(r.result.ok()) << r.result.message;
+    EXPECT_EQ(r.result.stats.error_test_fails, 0);
+    EXPECT_NEAR(static_cast<double>(r.result.stats.steps), 8.0 / h, 0.5);
+    double ex = 0, es = 0;
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      ex = std::max(ex, std::abs(r.x[k] - p.x(times[k])));
+      es = std::max(es, std::abs(r.s[k] - p.dx_dk(times[k])));
+    }
+    std::printf("h = %.3f: max |x error| %.3e, max |dx/dk error| %.3e\n", h, ex, es);
+    if (prev_x > 0) {
+      EXPECT_GT(prev_x / ex, 180) << "order below 7.5 at h = " << h;
+      EXPECT_LT(prev_x / ex, 360) << "order above 8.5 at h = " << h;
+      EXPECT_GT(prev_s / es, 150) << "sensitivity order below 7.2 at h = " << h;
+    }
+    prev_x = ex;
+    prev_s = es;
+  }
+}
+
+TEST(Dop853, ErrorFallsWithTheTolerance) {
+  Spring p(4.0);
+  const std::vector<double> times = grid(10.0, 6);
+  double prev = 1;
+  for (double rtol : {1e-6, 1e-9, 1e-12}) {
+    const Trajectory r = run(p, dop853(rtol, rtol * 1e-2), times);
+    ASSERT_TRUE(r.result.ok()) << r.result.message;
+    double e = 0, es = 0;
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      e = std::max(e, std::abs(r.x[k] - p.x(times[k])));
+      es = std::max(es, std::abs(r.s[k] - p.dx_dk(times[k])));
+    }
+    std::printf("rtol %.0e: steps %ld (rejected %ld), rhs %ld, max error x %.2e, dx/dk %.2e\n", rtol,
+                r.result.stats.steps, r.result.stats.error_test_fails, r.result.stats.rhs_evals, e, es);
+    EXPECT_LT(e, 100 * rtol);
+    EXPECT_LT(es, 1000 * rtol);
+    EXPECT_LT(e, prev / 10);
+    prev = e;
+    // 12 evaluations per step attempt (11 stages + f at the new point), plus the first and
+    // the initial-step estimate.
+    const long attempts = r.result.stats.steps + r.result.stats.error_test_fails;
+    EXPECT_EQ(r.result.stats.rhs_evals, 12 * attempts + 2);
+    EXPECT_LT(r.result.stats.error_test_fails, r.result.stats.steps / 5 + 3) << "the step control rejects too often";
+  }
+}
+
+TEST(Dop853, IntegratorDispatchesTheMethod) {
+  Spring p(4.0);
+  const std::vector<double> times = grid(3.0, 4);
+  const Trajectory direct = run(p, dop853(1e-8, 1e-10), times);
+  std::vector<double> x;
+  ks::Integrator integ(dop853(1e-8, 1e-10));
+  const ks::IntegrationResult r = integ.integrate(p, times, [&](int, double, const double* y, const double* const*) {
+    x.push_back(y[0]);
+  });
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(x, direct.x);
+  EXPECT_EQ(r.stats.steps, direct.result.stats.steps);
+}
+
+TEST(Dop853, SensitivityErrorControlTakesMoreSteps) {
+  // ∂x/∂k grows like t: controlling its error too needs at least as many steps.
+  Spring p(4.0);
+  const std::vector<double> times = grid(10.0, 2);
+  ks::SolverOptions on = dop853(1e-8, 1e-10), off = on;
+  off.sens_error_control = false;
+  const Trajectory a = run(p, on, times), b = run(p, off, times);
+  ASSERT_TRUE(a.result.ok() && b.result.ok());
+  EXPECT_GE(a.result.stats.steps, b.result.stats.steps);
+  p.sensitivities = false;
+  const Trajectory c = run(p, off, times);
+  EXPECT_EQ(c.result.stats.steps, b.result.stats.steps);  // uncontrolled sensitivities do not steer
+  EXPECT_EQ(c.x, b.x);
+}
+
+TEST(Dop853, FailuresAreStatuses) {
+  Spring p(4.0);
+  ks::SolverOptions few = dop853(1e-10, 1e-12);
+  few.max_steps = 20;
+  const Trajectory r1 = run(p, few, grid(10.0, 11));
+  EXPECT_EQ(r1.result.status, -1);
+  EXPECT_NE(r1.result.message.find("DOP853_TOO_MUCH_WORK"), std::string::npos) << r1.result.message;
+  EXPECT_EQ(r1.result.stats.steps, 20);
+  EXPECT_LT(r1.result.outputs_recorded, 11);
+
+  BlowUp b;
+  const Trajectory r2 = run(b, dop853(1e-8, 1e-10), {0.0, 0.5, 0.9, 2.0});
+  EXPECT_EQ(r2.result.status, -3) << r2.result.message;
+  EXPECT_EQ(r2.result.outputs_recorded, 3);
+  EXPECT_NEAR(r2.x[1], 2.0, 1e-7);
+  EXPECT_NEAR(r2.x[2], 10.0, 1e-6);
+  // It stops at the pole (an explicit step may land just past it before the stages overflow).
+  EXPECT_LT(r2.result.t_fail, 1.01) << r2.result.message;
+  EXPECT_GT(r2.result.t_fail, 0.9);
+
+  p.throw_after = 1.5;
+  const Trajectory r3 = run(p, dop853(1e-8, 1e-10), grid(3.0, 4));
+  EXPECT_EQ(r3.result.status, -8);
+  EXPECT_NE(r3.result.message.find("spring broke"), std::string::npos) << r3.result.message;
+  EXPECT_EQ(r3.result.outputs_recorded, 2);
+
+  ks::SolverOptions order = dop853(1e-8, 1e-10);
+  order.max_order = 5;
+  EXPECT_THROW(ks::Integrator{order}, std::invalid_argument);
+}
