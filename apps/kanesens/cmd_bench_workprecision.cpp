@@ -8,14 +8,15 @@
 //   bdf-dq            CVODES BDF, Newton, CVODES's difference-quotient Jacobian
 //   adams-newton      CVODES Adams–Moulton, Newton, exact Jacobian
 //   adams-functional  CVODES Adams–Moulton, fixed-point iteration (no Jacobian)
+//   dop853            explicit adaptive Runge–Kutta 8(5,3) (solve/dop853.hpp, solver.method: dop853)
 //   rk4               classical fixed-step RK4 (solve/rk4.hpp); tolerance tol → step
 //                     h = rk4_h_scale · tol^(1/4) (its global error is O(h⁴)), or the step
 //                     counts of --rk4-steps (h = (t_end − t0)/N)
 //   sens-exact        bdf-exact with the study's sensitivities, exact sensitivity RHS (duals)
 //   sens-dq           bdf-exact with the study's sensitivities, CVODES's DQ sensitivity RHS
-// The first five integrate the states only, unless --with-sens (then all integrate the study's
-// sensitivities, the CVODES ones with exact sensitivity RHS, RK4 by its own stages).
-// CVODES tolerances: rtol = tol, atol = tol · atol_ratio (all states).
+// The first six integrate the states only, unless --with-sens (then all integrate the study's
+// sensitivities with the exact sensitivity RHS; RK4 and DOP853 by their own stages).
+// Tolerances of the error-controlled methods: rtol = tol, atol = tol · atol_ratio (all states).
 //
 // Reference: bdf-exact at --reference-rtol (atol = reference_rtol · atol_ratio), with the
 // study's sensitivities, or --reference-file: JSON/YAML with `time` and `states` (T × n) and
@@ -278,8 +279,8 @@ RecordFlags flags_for(const Model& m, bool sens) {
   return f;
 }
 
-// Configures `opt` for a CVODES method; returns false for an unknown name.
-bool cvodes_method(const std::string& name, solve::SolverOptions& opt) {
+// Configures `opt` for an error-controlled method (CVODES or DOP853); false for an unknown name.
+bool solver_method(const std::string& name, solve::SolverOptions& opt) {
   using namespace kanesens::solve;
   opt.jacobian = JacobianKind::exact;
   opt.iteration = Iteration::newton;
@@ -291,7 +292,8 @@ bool cvodes_method(const std::string& name, solve::SolverOptions& opt) {
   } else if (name == "bdf-dq") {
     opt.method = Method::bdf;
     opt.jacobian = JacobianKind::dq;
-  } else if (name == "adams-newton") opt.method = Method::adams;
+  } else if (name == "dop853") opt.method = Method::dop853;
+  else if (name == "adams-newton") opt.method = Method::adams;
   else if (name == "adams-functional") {
     opt.method = Method::adams;
     opt.iteration = Iteration::functional;
@@ -342,7 +344,7 @@ Row run_method(const Setup& s, KaneProblem& problem, const std::string& method, 
     opt.atol = tol * s.o.atol_ratio;
     opt.atol_per_state.clear();
     if (s.o.max_steps > 0) opt.max_steps = s.o.max_steps;
-    cvodes_method(method, opt);
+    solver_method(method, opt);
     row.rtol = opt.rtol;
     row.atol = opt.atol;
     if (problem.has_projection() && opt.method == solve::Method::adams) {
@@ -497,7 +499,7 @@ int run_bench_workprecision(const WpOptions& o) {
   const std::vector<double> tols = numbers(o.tolerances, "--tolerances");
   std::vector<std::string> methods = split(o.methods);
   if (methods.empty()) {
-    methods = {"bdf-exact", "bdf-dq", "adams-newton", "adams-functional", "rk4"};
+    methods = {"bdf-exact", "bdf-dq", "adams-newton", "adams-functional", "dop853", "rk4"};
     if (ns > 0) {
       methods.push_back("sens-exact");
       methods.push_back("sens-dq");
@@ -505,8 +507,8 @@ int run_bench_workprecision(const WpOptions& o) {
   }
   for (const std::string& m : methods) {
     solve::SolverOptions probe;
-    if (m != "rk4" && !cvodes_method(m, probe))
-      throw InputError({}, "--methods", "unknown method '" + m + "'; expected bdf-exact, bdf-dq, adams-newton, adams-functional, rk4, sens-exact, sens-dq");
+    if (m != "rk4" && !solver_method(m, probe))
+      throw InputError({}, "--methods", "unknown method '" + m + "'; expected bdf-exact, bdf-dq, adams-newton, adams-functional, dop853, rk4, sens-exact, sens-dq");
     if (m.rfind("sens-", 0) == 0 && ns == 0)
       throw InputError({}, "--methods", "'" + m + "' needs a study with sensitivities");
   }
@@ -529,7 +531,7 @@ int run_bench_workprecision(const WpOptions& o) {
     opt.atol = o.reference_rtol * o.atol_ratio;
     opt.atol_per_state.clear();
     opt.max_steps = o.reference_max_steps;
-    cvodes_method("bdf-exact", opt);
+    solver_method("bdf-exact", opt);
     solve::Integrator integ(opt);
     const auto t0 = std::chrono::steady_clock::now();
     simulate(with, integ, s.times, flags_for(s.model, ns > 0), ref_traj);
@@ -648,7 +650,7 @@ void add_bench_workprecision(CLI::App* bench, Action& action) {
   wp->add_option("--set", o->set, "Override a parameter, initial condition or study setting (as in simulate); repeatable");
   wp->add_option("--tolerances", o->tolerances, "Comma-separated rtol values (atol = rtol · atol-ratio)");
   wp->add_option("--methods", o->methods,
-                 "Comma-separated: bdf-exact, bdf-dq, adams-newton, adams-functional, rk4, sens-exact, sens-dq");
+                 "Comma-separated: bdf-exact, bdf-dq, adams-newton, adams-functional, dop853, rk4, sens-exact, sens-dq");
   wp->add_option("--repeat", o->repeat, "Timed runs per point (the median is reported)");
   wp->add_option("--reference-rtol", o->reference_rtol, "rtol of the bdf-exact reference run");
   wp->add_option("--reference-file", o->reference_file,

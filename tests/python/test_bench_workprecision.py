@@ -12,8 +12,8 @@ CHAIN = ["configs/wp_chain4.yaml", "--set", "time.end=2", "--set", "time.outputs
 def test_rows_and_errors_fall_with_tolerance():
     d = run(*CHAIN, "--tolerances", "1e-4,1e-6,1e-8", "--rk4-steps", "100,400", "--reference-rtol", "1e-12")
     assert d["reference"]["kind"] == "computed" and d["reference"]["row"]["ok"]
-    assert {r["method"] for r in d["rows"]} == {"bdf-exact", "bdf-dq", "adams-newton", "adams-functional", "rk4"}
-    for m in ("bdf-exact", "bdf-dq", "adams-newton", "adams-functional"):
+    assert {r["method"] for r in d["rows"]} == {"bdf-exact", "bdf-dq", "adams-newton", "adams-functional", "dop853", "rk4"}
+    for m in ("bdf-exact", "bdf-dq", "adams-newton", "adams-functional", "dop853"):
         e = [row(d, m, tol=t)["final_rel_error"] for t in (1e-4, 1e-6, 1e-8)]
         assert e[2] < e[1] < e[0] < 1, (m, e)
         for r in rows(d, m):
@@ -46,6 +46,9 @@ def test_sensitivity_methods_and_constrained_scene():
     assert row(d, "sens-exact", tol=1e-6)["sens_final_rel_error"] < 1e-2
     assert row(d, "sens-dq", tol=1e-6)["rhs_evals_for_sens"] > 0
     assert row(d, "bdf-exact", tol=1e-6)["sens_final_rel_error"] is None  # states only
+    # DOP853 projects after every accepted step: the position constraint holds to round-off
+    dop = row(d, "dop853", tol=1e-6)
+    assert dop["ok"] and dop["constraint_position_residual"] < 1e-12, dop
     # RK4 does not project: the constraint drifts, and the bench says by how much
     assert row(d, "rk4", tol=1e-6)["constraint_position_residual"] > 0
 
