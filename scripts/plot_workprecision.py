@@ -31,6 +31,7 @@ STYLE = {
     "bdf-dq": ("tab:cyan", "s", "--"),
     "adams-newton": ("tab:orange", "^", "-"),
     "adams-functional": ("tab:red", "v", "--"),
+    "dop853": ("tab:olive", "P", "-"),
     "rk4": ("black", "D", ":"),
     "sens-exact": ("tab:green", "o", "-"),
     "sens-dq": ("tab:purple", "s", "--"),
@@ -112,7 +113,7 @@ def plot_file(path, outdir, error_key, work_key, max_error=10.0, suffix=""):
     ref = data.get("reference", {})
     if ref.get("kind") == "computed":
         rr = ref["row"]
-        refdesc = f"reference bdf-exact rtol {rr['rtol']:.0e}"
+        refdesc = f"reference {rr.get('method', 'bdf-exact')} rtol {rr['rtol']:.0e}"
     else:
         refdesc = f"reference {ref.get('file', '?')}"
     title = (f"{os.path.basename(data['study'])} ({data['scene']}): t = {data['t0']:g}..{data['t_end']:g}, "

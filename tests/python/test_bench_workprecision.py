@@ -53,8 +53,20 @@ def test_sensitivity_methods_and_constrained_scene():
     assert row(d, "rk4", tol=1e-6)["constraint_position_residual"] > 0
 
 
+def test_dop853_reference_agrees_with_the_bdf_reference():
+    """--reference-method dop853: the same study, the same errors to within the BDF reference's
+    own error (~1e-9 relative here), so either reference measures errors above that floor."""
+    a = run(*CHAIN, "--methods", "adams-newton", "--tolerances", "1e-6", "--reference-rtol", "1e-12")
+    b = run(*CHAIN, "--methods", "adams-newton", "--tolerances", "1e-6", "--reference-method", "dop853")
+    assert a["reference"]["row"]["method"] == "bdf-exact" and b["reference"]["row"]["method"] == "dop853"
+    ea, eb = a["rows"][0]["final_rel_error"], b["rows"][0]["final_rel_error"]
+    assert abs(ea - eb) < 1e-3 * ea, (ea, eb)
+
+
 def test_bad_input_is_exit_2():
     p = run(*CHAIN, "--methods", "bdf-exact,magic", check=False)
     assert p.returncode == 2 and "unknown method 'magic'" in p.stderr
+    p = run(*CHAIN, "--reference-method", "sens-exact", check=False)
+    assert p.returncode == 2 and "--reference-method" in p.stderr
     p = run(*CHAIN, "--methods", "sens-dq", check=False)
     assert p.returncode == 2 and "sensitivities" in p.stderr
