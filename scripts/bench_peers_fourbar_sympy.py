@@ -329,7 +329,7 @@ def plot(data, path):
     for x in (ax, ax2):
         x.grid(True, which="major", alpha=0.3)
     m = data["meta"]
-    fig.suptitle(f"kanesens (CVODES) vs SymPy KanesMethod + SciPy solve_ivp — {m['date']}, {m['cpu']}, "
+    fig.suptitle(f"kanesens (CVODES; DOP853 where available) vs SymPy KanesMethod + SciPy solve_ivp — {m['date']}, {m['cpu']}, "
                  f"nproc {m['nproc']}, rtol sweep, atol = rtol·1e-2", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
