@@ -3,6 +3,7 @@
 
     /usr/bin/python3 scripts/bench_peers_fourbar_sympy.py [--out docs/peers]
         [--kanesens build/kanesens] [--budget 20] [--reps 3] [--rtols 1e-3,...,1e-14]
+    quick smoke test: ... --out /tmp/fourbar_sympy --rtols 1e-4,1e-6 --reps 1
 
 The problem: the crank-rocker of configs/four_bar.yaml (crank upright at 6 rad/s, gravity −y,
 conservative), integrated over t in [0, 10]; the crank goes round 16.6 times (q1: 1.57 -> 105.6).
@@ -20,18 +21,23 @@ conservative), integrated over t in [0, 10]; the crank goes round 16.6 times (q1
   |g| and |A u| are recorded. rtol swept, atol = rtol * 1e-2 (SciPy raises rtol < 100 eps to
   2.2e-14, recorded as rtol_effective); Radau and LSODA use SciPy's finite-difference
   Jacobians. Time: wall time of the solve_ivp call.
-* kanesens: `kanesens simulate` of a study with the same scene, four constraint treatments:
-  BDF + multipliers + projection (the default), Adams + multipliers + Baumgarte (CVODES
-  projects only with BDF), Adams + embedding (state [q; u1], no stabilization) and BDF +
-  embedding + projection. Time: stats.wall_seconds (integrate() including CVODES setup; process
-  start-up and parsing excluded, as the derivation is for SciPy); process wall time recorded.
+* kanesens: `kanesens simulate` of a study with the same scene (scripts/fourbar_kanesens.py),
+  six (method, constraint treatment) variants: BDF + multipliers + projection (the default),
+  Adams + multipliers + Baumgarte (CVODES projects only with BDF), Adams + embedding (state
+  [q; u1], no stabilization), BDF + embedding + projection, and the explicit Runge–Kutta
+  DOP853 (Dormand–Prince 8(5,3)) with embedding (no stabilization) and with multipliers +
+  Baumgarte. A variant whose method this kanesens does not know (dop853 before it landed) is
+  skipped with a note. Time: stats.wall_seconds (integrate() including the integrator's setup;
+  process start-up and parsing excluded, as the derivation is for SciPy); process wall time
+  recorded.
 * Error: max over the six states of |y(10) − y_ref(10)|. The crank angle reaches 105.6 rad, so
   an absolute 1e-8 is a relative 1e-10: the sweep goes on to rtol 1e-14 to reach it. y_ref is
-  independent of every integrator: one degree of freedom and T + V conserved give
-  u1 = sqrt(2 (E − V(q1)) / m(q1)) along the closed-form assembly, so t(q1) = ∫ dq1 / u1 is a
-  quadrature (mpmath, 30 digits; the crank never stops), solved for t = 10 by Newton; q2, q3, u2, u3 from the assembly and
-  the velocity constraints. Checked against kanesens Adams (both formulations) and BDF at rtol
-  1e-14 (atol 1e-16) and SciPy DOP853 at rtol 1e-13.
+  independent of every integrator: tests/sympy/four_bar_quadrature.py (one degree of freedom
+  and T + V conserved give u1 = sqrt(2 (E − V(q1)) / m(q1)) along the closed-form assembly, so
+  t(q1) = ∫ dq1 / u1 is a quadrature, mpmath at 30 digits, solved for t = 10 by Newton; q2,
+  q3, u2, u3 from the assembly and the velocity constraints). Reported beside it: every
+  kanesens variant at rtol --ref-rtol (1e-14, atol 1e-16) and SciPy DOP853 at --check-rtol
+  (1e-13), as their distances from y_ref.
 * Alternation: for every tolerance the programs run one after the other (kanesens, SciPy,
   kanesens, ...), repeated --reps times (1 time once a run took more than 2 s); the median is
   kept. A SciPy method whose run took more than --budget seconds is not run at tighter
@@ -66,21 +72,17 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests" / "sympy"))
 sys.path.insert(0, str(ROOT / "scripts"))
 import four_bar_kane as fb  # noqa: E402
+import four_bar_quadrature  # noqa: E402
+import fourbar_kanesens as fk  # noqa: E402
 from bench_peers_sympy import max_err, now, time_at  # noqa: E402  (the chain bench's conventions)
 
 SCIPY_METHODS = ["RK45", "DOP853", "Radau", "LSODA"]
-# (method, formulation, stabilization): projection is CVODES's and exists only with BDF.
+# (method, formulation, stabilization), see fourbar_kanesens.LABELS.
 KANESENS_VARIANTS = [("bdf", "multipliers", "projection"), ("adams", "multipliers", "baumgarte"),
-                     ("adams", "embedding", "none"), ("bdf", "embedding", "projection")]
-LABELS = {"bdf/multipliers/projection": "BDF mult.+proj.", "adams/multipliers/baumgarte": "Adams mult.+Baumg.",
-          "adams/embedding/none": "Adams embed.", "bdf/embedding/projection": "BDF embed.+proj."}
+                     ("adams", "embedding", "none"), ("bdf", "embedding", "projection"),
+                     ("dop853", "embedding", "none"), ("dop853", "multipliers", "baumgarte")]
 TARGETS = [1e-4, 1e-6, 1e-8, 1e-10]
 T_END = 10.0
-CRANK_START, CRANK_RATE = mpmath.pi / 2, 6         # configs/four_bar.yaml: th1 = pi/2, w1 = 6
-
-
-def variant_name(v):
-    return "/".join(v)
 
 
 def derive():
@@ -120,72 +122,12 @@ def scipy_run(fun, constraints, p, y0, method, rtol, atol):
 
 
 def kanesens_run(exe, study, variant, rtol, atol):
-    method, formulation, stabilization = variant
-    cmd = [exe, "simulate", str(study), "--format", "json", "--sens", "none",
-           "--set", f"solver.method={method}", "--set", f"solver.constraints.formulation={formulation}",
-           "--set", f"solver.constraints.stabilization={stabilization}",
-           "--set", f"solver.rtol={rtol!r}", "--set", f"solver.atol={atol!r}"]
-    t0 = time.perf_counter()
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    dt = time.perf_counter() - t0
-    if p.returncode not in (0, 4):
-        raise RuntimeError(f"{' '.join(cmd)} failed ({p.returncode}): {p.stderr}")
-    out = json.loads(p.stdout)
+    out = fk.simulate(exe, study, variant, rtol, atol)
     st, res = out["stats"], out["constraint_residuals"]
-    return {"time_s": st["wall_seconds"], "process_wall_s": dt, "y_end": out["states"][-1],
+    return {"time_s": st["wall_seconds"], "process_wall_s": out["process_wall_s"], "y_end": out["states"][-1],
             "y0": out["states"][0], "status": out.get("status", 0), "message": out.get("message", ""),
             "nfev": st.get("rhs_evals"), "steps": st.get("steps"), "njev": st.get("jac_evals"),
             "g_end": res["position"][-1], "Au_end": res["velocity"][-1], "state_names": out["state_names"]}
-
-
-def quadrature_reference(model, pn):
-    """y(T_END) from energy conservation (see the module docstring), in mpmath at 30 digits."""
-    mpmath.mp.dps = 30
-    p = [mpmath.mpf(repr(pn[k])) for k in fb.PARAMETERS]
-    pd = dict(zip(fb.PARAMETERS, p))
-
-    def one(name):
-        f = fb.lambdify(model, (name,), modules="mpmath")
-        return lambda q, u, p: f(q, u, p)[0]
-    T, V, A = one("kinetic_energy"), one("potential_energy"), one("velocity_matrix")
-
-    def state(q1, u1):
-        q2, q3 = fb.assemble(q1, pd, lib=mpmath)
-        a = mpmath.matrix(A([q1, q2, q3], [0, 0, 0], p))
-        # A_d [u2, u3] = −A_i u1 (Cramer's rule on the 2×2 dependent block)
-        det = a[0, 1] * a[1, 2] - a[0, 2] * a[1, 1]
-        k2 = (-a[0, 0] * a[1, 2] + a[0, 2] * a[1, 0]) / det
-        k3 = (-a[0, 1] * a[1, 0] + a[0, 0] * a[1, 1]) / det
-        return [q1, q2, q3], [u1, k2 * u1, k3 * u1]
-
-    q, u = state(CRANK_START, mpmath.mpf(CRANK_RATE))
-    energy = T(q, u, p) + V(q, u, p)
-
-    def crank_rate(q1):
-        q, v = state(q1, 1)                        # v = u / u1: the effective mass is 2 T(q, v)
-        return mpmath.sqrt(2 * (energy - V(q, v, p)) / (2 * T(q, v, p)))
-
-    min_rate = min(crank_rate(CRANK_START + 2 * mpmath.pi * i / 360) for i in range(360))
-    if min_rate <= 0.1:
-        raise RuntimeError(f"the crank nearly stops (u1 = {min_rate}): the quadrature reference does not apply")
-
-    def elapsed(s):                                # time for the crank to turn by s from the start
-        return mpmath.quad(lambda x: 1 / crank_rate(x), mpmath.linspace(CRANK_START, CRANK_START + s, 9))
-
-    period = elapsed(2 * mpmath.pi)
-    turns = int(mpmath.floor(T_END / period))
-    rest = T_END - turns * period
-    s = rest * 2 * mpmath.pi / period
-    for _ in range(30):                            # Newton on elapsed(s) = rest, d elapsed/ds = 1/u1
-        ds = (elapsed(s) - rest) * crank_rate(CRANK_START + s)
-        s -= ds
-        if abs(ds) < mpmath.mpf(10) ** -25:
-            break
-    q, u = state(CRANK_START + 2 * mpmath.pi * turns + s, crank_rate(CRANK_START + s))
-    y0q, y0u = state(CRANK_START, mpmath.mpf(CRANK_RATE))
-    return ({"period_s": float(period), "turns": turns, "min_crank_rate": float(min_rate),
-             "newton_last_step": float(abs(ds)), "energy": float(energy)},
-            [float(x) for x in y0q + y0u], [float(x) for x in q + u])
 
 
 def main():
@@ -203,11 +145,8 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix="bench_peers_fourbar_"))
     load_start = os.getloadavg()
-    study = tmp / "four_bar_study.yaml"
-    study.write_text(f"kanesens: 1\nscene: {ROOT / 'configs' / 'four_bar.yaml'}\ntime: {{end: {T_END}, outputs: 2}}\n"
-                     "solver: {method: bdf, rtol: 1.0e-8, atol: 1.0e-10, jacobian: exact, max_steps: 100000000,\n"
-                     "         constraints: {formulation: multipliers, stabilization: projection}}\n"
-                     "record: [states]\n")
+    study = fk.write_study(tmp / "four_bar_study.yaml", T_END)
+    variants = fk.available(a.kanesens, study, KANESENS_VARIANTS, "bench_peers_fourbar_sympy")
 
     print("deriving (KanesMethod + lambdify)", file=sys.stderr, flush=True)
     derivation, fun, model = derive()
@@ -215,28 +154,26 @@ def main():
     constraints = fb.lambdify(model, ("closure", "velocity_matrix"))
     p = [fb.NOMINAL[k] for k in fb.PARAMETERS]
 
-    print("reference: energy quadrature", file=sys.stderr, flush=True)
+    print("reference: energy quadrature (tests/sympy/four_bar_quadrature.py)", file=sys.stderr, flush=True)
     w0 = time.perf_counter()
-    quad, y0_exact, y_ref = quadrature_reference(model, fb.NOMINAL)
+    y_ref, quad = four_bar_quadrature.state_at(T_END)
     quad["time_s"] = time.perf_counter() - w0
     ra, ca = a.ref_rtol, a.check_rtol
-    checks = {"reference": "energy quadrature (mpmath, 30 digits)", "quadrature": quad, "y_ref": y_ref,
+    checks = {"reference": f"energy quadrature (mpmath, {quad['dps']} digits)", "quadrature": quad, "y_ref": y_ref,
               "ref_rtol": ra, "check_rtol": ca, "tight": []}
     y0 = None
-    for v in KANESENS_VARIANTS:
+    for v in variants:
         r = kanesens_run(a.kanesens, study, v, ra, ra * 1e-2)
         if y0 is None:
             y0 = np.array(r["y0"], dtype=float)      # SciPy starts where kanesens starts, as in the chain bench
             checks["state_names"] = r["state_names"]
-        checks["tight"].append({"tool": "kanesens", "method": variant_name(v), "rtol": ra, "time_s": r["time_s"],
+        checks["tight"].append({"tool": "kanesens", "method": fk.name(v), "rtol": ra, "time_s": r["time_s"],
                                 "error": max_err(r["y_end"], y_ref), "y_end": r["y_end"], "g_end": r["g_end"]})
     dop = scipy_run(fun, constraints, p, y0, "DOP853", ca, ca * 1e-2)
     checks["tight"].append({"tool": "scipy", "method": "DOP853", "rtol": ca, "time_s": dop["time_s"],
                             "error": max_err(dop["y_end"], y_ref), "y_end": dop["y_end"], "g_end": dop["g_end"]})
     checks["y0"] = y0.tolist()
-    checks["y0_vs_exact"] = max_err(y0, y0_exact)
-    first = checks["tight"][1]["y_end"]             # the brief's reference: kanesens Adams at 1e-14
-    checks["spread_vs_adams_multipliers"] = {c["method"]: max_err(c["y_end"], first) for c in checks["tight"]}
+    checks["y0_vs_exact"] = max_err(y0, quad["y0"])
     for c in checks["tight"]:
         print(f"  {c['tool']} {c['method']} rtol {c['rtol']:g}: |y - y_quad| = {c['error']:.2e}, "
               f"|g| = {c['g_end']:.1e}, {c['time_s']:.2f} s", file=sys.stderr, flush=True)
@@ -245,7 +182,7 @@ def main():
     active = set(SCIPY_METHODS)
     for rtol in rtols:
         atol = rtol * 1e-2
-        ks = [("kanesens", v) for v in KANESENS_VARIANTS]
+        ks = [("kanesens", v) for v in variants]
         ss = [("scipy", m) for m in SCIPY_METHODS if m in active]
         order = []                                   # kanesens BDF, RK45, kanesens Adams, DOP853, ...
         for i in range(max(len(ks), len(ss))):
@@ -259,7 +196,7 @@ def main():
                               else scipy_run(fun, constraints, p, y0, t[1], rtol, atol))
         for t in order:
             rs = res[t]
-            name = variant_name(t[1]) if t[0] == "kanesens" else t[1]
+            name = fk.name(t[1]) if t[0] == "kanesens" else t[1]
             row = {"tool": t[0], "method": name, "rtol": rtol, "atol": atol,
                    "time_s": statistics.median(r["time_s"] for r in rs), "times_s": [r["time_s"] for r in rs],
                    "error": max_err(rs[0]["y_end"], y_ref), "g_end": rs[0]["g_end"], "Au_end": rs[0]["Au_end"],
@@ -276,7 +213,7 @@ def main():
                 active.discard(t[1])
 
     targets = []
-    for tool, methods in (("scipy", SCIPY_METHODS), ("kanesens", [variant_name(v) for v in KANESENS_VARIANTS])):
+    for tool, methods in (("scipy", SCIPY_METHODS), ("kanesens", [fk.name(v) for v in variants])):
         for m in methods:
             pts = sorted([(r["rtol"], r["error"], r["time_s"]) for r in runs
                           if r["tool"] == tool and r["method"] == m and r["status"] >= 0], key=lambda x: -x[0])
@@ -290,6 +227,8 @@ def main():
             "python": sys.version.split()[0], "sympy": sp.__version__, "scipy": scipy.__version__,
             "numpy": np.__version__, "mpmath": mpmath.__version__, "t_end": T_END, "rtols": rtols,
             "atol_factor": 1e-2, "reps": a.reps, "budget_s": a.budget,
+            "kanesens_variants": [fk.name(v) for v in variants],
+            "kanesens_variants_skipped": [fk.name(v) for v in KANESENS_VARIANTS if v not in variants],
             "git": subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                                   capture_output=True, text=True).stdout.strip(),
             "kanesens_version": subprocess.run([a.kanesens, "--version"], capture_output=True,
@@ -308,7 +247,7 @@ def ms(t):
 
 def table(data) -> str:
     m, d, c = data["meta"], data["derivation"], data["reference_check"]
-    kv = [variant_name(v) for v in KANESENS_VARIANTS]
+    kv = m["kanesens_variants"]
     T = {(t["tool"], t["method"], t["target"]): t for t in data["targets"]}
     lines = [f"Run {m['date']}, commit {m['git']} ({m['kanesens_version']}), {m['cpu']}, nproc {m['nproc']}, "
              f"load average {' '.join(f'{x:.2f}' for x in m['loadavg_start'])} (start) / "
@@ -320,32 +259,33 @@ def table(data) -> str:
         lines.append(f"| {name} | {d[k + '_wall_s']:.3f} | {d[k + '_cpu_s']:.3f} |")
     lines.append(f"\ncount_ops(M, f) = {d['count_ops_M_f']:,}.")
     q = c["quadrature"]
-    lines += ["", f"Reference y_ref(10): energy quadrature (mpmath, 30 digits; period {q['period_s']:.6f} s, "
-              f"{q['turns']} full crank turns before t = 10, slowest crank rate {q['min_crank_rate']:.2f} rad/s, "
-              f"{q['time_s']:.1f} s). Tight solutions against it (atol = rtol·1e-2), max abs over the six states, "
-              "and their difference from kanesens Adams mult.+Baumg. at 1e-14:", "",
-              "| solution | rtol | max abs (y − y_ref) | max abs (y − kanesens Adams mult.+Baumg.) | \\|g\\| at t = 10 | time (s) |",
-              "|---|---:|---:|---:|---:|---:|"]
+    lines += ["", f"Reference y_ref(10): energy quadrature (tests/sympy/four_bar_quadrature.py, mpmath, {q['dps']} "
+              f"digits; period {q['period_s']:.6f} s, {q['turns']} full crank turns before t = 10, slowest crank rate "
+              f"{q['min_crank_rate']:.2f} rad/s, {q['time_s']:.1f} s). Tight solutions against it "
+              "(atol = rtol·1e-2), max abs over the six states:", "",
+              "| solution | rtol | max abs (y − y_ref) | \\|g\\| at t = 10 | time (s) |", "|---|---:|---:|---:|---:|"]
     for r in c["tight"]:
-        name = ("kanesens " + LABELS[r["method"]]) if r["tool"] == "kanesens" else "SciPy " + r["method"]
-        lines.append(f"| {name} | {r['rtol']:.0e} | {r['error']:.1e} | "
-                     f"{c['spread_vs_adams_multipliers'][r['method']]:.1e} | {r['g_end']:.1e} | {r['time_s']:.2f} |")
+        name = ("kanesens " + fk.label(r["method"])) if r["tool"] == "kanesens" else "SciPy " + r["method"]
+        lines.append(f"| {name} | {r['rtol']:.0e} | {r['error']:.1e} | {r['g_end']:.1e} | {r['time_s']:.2f} |")
     lines.append(f"\nmax abs y_ref = {max(abs(x) for x in c['y_ref']):.1f} (the crank angle); "
-                 f"kanesens's y0 vs the 30-digit y0: {c['y0_vs_exact']:.1e}.")
+                 f"kanesens's y0 vs the {q['dps']}-digit y0: {c['y0_vs_exact']:.1e}.")
+    if m["kanesens_variants_skipped"]:
+        lines.append("Skipped (this kanesens has no such solver.method): "
+                     + ", ".join("kanesens " + fk.label(k) for k in m["kanesens_variants_skipped"]))
     lines += ["", "Time to reach a final-time max abs error (ms, interpolated log-log on the tolerance sweep; "
               "'≤' = the loosest tolerance already reaches it, '—' = not reached within the sweep/budget). "
               "Ratio = fastest SciPy method / fastest kanesens variant:", "",
-              "| target | RK45 | DOP853 | Radau | LSODA | " + " | ".join("kanesens " + LABELS[k] for k in kv)
+              "| target | RK45 | DOP853 | Radau | LSODA | " + " | ".join("kanesens " + fk.label(k) for k in kv)
               + " | ratio best SciPy / best kanesens |", "|---:|" + "---:|" * (4 + len(kv) + 1)]
     for e in TARGETS:
         cs = [T.get(("scipy", s, e)) for s in SCIPY_METHODS] + [T.get(("kanesens", k, e)) for k in kv]
         sv = [(x["time_s"], x["method"]) for x in cs[:4] if x and x["time_s"] is not None]
-        kt = [(x["time_s"], LABELS[x["method"]]) for x in cs[4:] if x and x["time_s"] is not None]
+        kt = [(x["time_s"], fk.label(x["method"])) for x in cs[4:] if x and x["time_s"] is not None]
         ratio = f"{min(sv)[0] / min(kt)[0]:,.1f} ({min(sv)[1]} / {min(kt)[1]})" if sv and kt else "—"
         lines.append(f"| {e:.0e} | " + " | ".join(ms(x) for x in cs) + f" | {ratio} |")
     lines += ["", "Final-time error and loop-closure residual \\|g\\| (m) per tolerance (error / \\|g\\|; "
-              "SciPy has no projection, kanesens BDF projects, Adams embedding keeps A u = 0 exactly but not g):", "",
-              "| rtol | " + " | ".join(SCIPY_METHODS) + " | " + " | ".join("kanesens " + LABELS[k] for k in kv) + " |",
+              "SciPy has no projection, kanesens BDF projects, embedding keeps A u = 0 exactly but not g):", "",
+              "| rtol | " + " | ".join(SCIPY_METHODS) + " | " + " | ".join("kanesens " + fk.label(k) for k in kv) + " |",
               "|---:|" + "---:|" * (4 + len(kv))]
     R = {(r["method"], r["rtol"]): r for r in data["runs"]}
     for rt in m["rtols"]:
@@ -363,12 +303,13 @@ def plot(data, path):
     styles = {"RK45": ("tab:blue", "o", "-"), "DOP853": ("tab:orange", "s", "-"), "Radau": ("tab:green", "^", "-"),
               "LSODA": ("tab:red", "v", "-"), "bdf/multipliers/projection": ("black", "D", "-"),
               "adams/multipliers/baumgarte": ("tab:gray", "P", "--"), "adams/embedding/none": ("tab:purple", "X", "--"),
-              "bdf/embedding/projection": ("tab:brown", "d", ":")}
+              "bdf/embedding/projection": ("tab:brown", "d", ":"), "dop853/embedding/none": ("tab:olive", "*", "-."),
+              "dop853/multipliers/baumgarte": ("tab:cyan", "p", "-.")}
     for name, (col, mk, ls) in styles.items():
         pts = sorted([r for r in data["runs"] if r["method"] == name], key=lambda r: -r["rtol"])
         if not pts:
             continue
-        label = f"SciPy {name}" if pts[0]["tool"] == "scipy" else f"kanesens {LABELS[name]}"
+        label = f"SciPy {name}" if pts[0]["tool"] == "scipy" else f"kanesens {fk.label(name)}"
         lw = 1.6 if pts[0]["tool"] == "kanesens" else 1.2
         ax.loglog([max(r["error"], 1e-16) for r in pts], [r["time_s"] for r in pts], color=col, marker=mk, ls=ls,
                   lw=lw, ms=5, label=label)
@@ -388,7 +329,7 @@ def plot(data, path):
     for x in (ax, ax2):
         x.grid(True, which="major", alpha=0.3)
     m = data["meta"]
-    fig.suptitle(f"kanesens (CVODES) vs SymPy KanesMethod + SciPy solve_ivp — {m['date']}, {m['cpu']}, "
+    fig.suptitle(f"kanesens (CVODES; DOP853 where available) vs SymPy KanesMethod + SciPy solve_ivp — {m['date']}, {m['cpu']}, "
                  f"nproc {m['nproc']}, rtol sweep, atol = rtol·1e-2", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
