@@ -140,6 +140,7 @@ int run_simulate(const SimulateOptions& o) {
   for (std::size_t i = 0; i < sens_names.size(); ++i)
     sens.push_back(resolve_input(m, sens_names[i], o.sens.empty() ? "sensitivities[" + std::to_string(i) + "]" : "--sens"));
   KaneProblem problem(m, sens, study.constraints);
+  problem.set_initial_time(study.output_times.front());
   problem.set_sample(inputs);
   solve::Integrator integrator(study.solver);
   RecordFlags flags;

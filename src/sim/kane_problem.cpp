@@ -69,7 +69,7 @@ void KaneProblem::set_sample(const SampleInputs& inputs) {
     std::vector<double> y0(static_cast<std::size_t>(model_.nstate()));
     initial_state_full(y0.data());
     std::vector<double> zero(static_cast<std::size_t>(model_.nu), 0.0);
-    evaluate_state_expressions(model_, ws_, 0.0, y0.data(), zero.data());
+    evaluate_state_expressions(model_, ws_, initial_time_, y0.data(), zero.data());
     compute_position(model_, ws_, y0.data());
     compute_velocity(model_, ws_, zero.data());
     compute_kinematic_derivatives(model_, ws_, y0.data(), zero.data());
@@ -81,6 +81,11 @@ void KaneProblem::set_sample(const SampleInputs& inputs) {
   std::copy(parameters_.begin(), parameters_.end(), dq_parameters_.begin());
   for (std::size_t i = 0; i < sens_.size(); ++i)
     dq_parameters_[model_.nparam() + i] = sens_[i].kind == InputRef::Kind::parameter ? 0.0 : 1.0;
+}
+
+void KaneProblem::set_initial_time(double t0) {
+  initial_time_ = t0;
+  set_sample(inputs_);  // the embedding's sets depend on t0
 }
 
 // y0 as duals: tangent of sensitivity i (i < 0: no tangent).
@@ -161,7 +166,7 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
   Dual* u = y0.data() + nq;
   std::vector<double> qv(nq);
   auto values = [&] { for (int i = 0; i < nq; ++i) qv[i] = q[i].v; };
-  const double t0 = ws.time.v;
+  const double t0 = initial_time_;
   double dq_max = 0, du_max = 0;
   // Which initial values the user gave: 0 not given, 1 in the scene's q0/u0, 2 set for this
   // sample or a sensitivity parameter. Dependents are tried in that order (lowest first), each

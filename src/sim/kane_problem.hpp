@@ -29,6 +29,9 @@ class KaneProblem final : public solve::OdeProblem {
   // Loads one sample (parameters, initial conditions). Throws InputError if the parameters are
   // physically invalid (mass ≤ 0, ...).
   void set_sample(const SampleInputs& inputs);
+  // The time t0 of the initial state (the study's time.start; default 0): time-dependent
+  // constraints are made consistent, and the embedding's independent speeds chosen, at t0.
+  void set_initial_time(double t0);
 
   // nq + nu, or with the embedding formulation nq + (number of independent speeds).
   int size() const override {
@@ -112,6 +115,7 @@ class KaneProblem final : public solve::OdeProblem {
   std::unique_ptr<EmbeddingScratch<Dual>> sc_dual_;
   std::vector<int> holonomic_rows_;
   mutable double initial_dq_ = 0, initial_du_ = 0;
+  double initial_time_ = 0;
   std::unique_ptr<Workspace<Dual>> ws_project_;
 
   const Model& model_;

@@ -25,9 +25,20 @@ solve::RecordFn make_recorder(KaneProblem& problem, const RecordFlags& flags, Tr
   auto yfull = std::make_shared<std::vector<double>>(n);
   auto s_full = std::make_shared<std::vector<std::vector<double>>>(ns, std::vector<double>(n));
   auto s_ptr = std::make_shared<std::vector<const double*>>(ns);
-  return [&problem, &traj, flags, n, ns, yfull, s_full, s_ptr](int k, double t, const double* yint,
-                                                               const double* const* sint) {
+  const std::size_t nint = static_cast<std::size_t>(problem.size());
+  auto y_projected = std::make_shared<std::vector<double>>(nint);
+  auto correction = std::make_shared<std::vector<double>>(nint);
+  return [&problem, &traj, flags, n, ns, nint, yfull, s_full, s_ptr, y_projected, correction](
+             int k, double t, const double* yint, const double* const* sint) {
     const std::size_t kk = static_cast<std::size_t>(k);
+    // With projection, CVODES projects the state at the end of each step, but an output between
+    // step ends is interpolated and may sit off the constraints (far off when the error test,
+    // projected onto the tangent space, leaves the steps long: a fully driven coordinate).
+    // Record the projected state; the integrator's own copy is left as it is.
+    if (problem.has_projection() && problem.project(t, yint, correction->data(), 0.0, nullptr) == 0) {
+      for (std::size_t j = 0; j < nint; ++j) (*y_projected)[j] = yint[j] + (*correction)[j];
+      yint = y_projected->data();
+    }
     // Outputs are always the full state [q; u] (the embedding integrates [q; u_i]).
     problem.full_state(t, yint, yfull->data());
     const double* y = yfull->data();
