@@ -120,7 +120,12 @@ bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, con
   const S* ui = y + m.nq;
   if (!reconstruct_speeds(m, ws, sc, sets, t, q, ui, sc.u.data())) return false;
   const S* u = sc.u.data();
-  evaluate_mass_matrix_and_forcing(m, ws, t, q, u);
+  // reconstruct_speeds left the positions of q evaluated (they depend on q and the parameters
+  // only); what depends on u is evaluated again.
+  evaluate_state_expressions(m, ws, t, q, u);
+  compute_velocity(m, ws, u);
+  compute_mass_matrix(m, ws);
+  compute_forcing(m, ws, q, u);
   compute_kinematic_derivatives(m, ws, q, u);
   compute_constraints(m, ws, q, u);
   const int nd = static_cast<int>(sets.dependent.size());
