@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `kanesens run` under MPI: the same study on 1, 2 and 3 ranks (oversubscribed) gives bitwise
-# identical datasets; xarray sees named dimensions; an existing output is not overwritten; a run
+# identical datasets, with CVODES and with DOP853 (solver.method: dop853); xarray sees named
+# dimensions; an existing output is not overwritten; a run
 # killed with SIGKILL mid-way is finished by --resume and then equals an uninterrupted run;
 # --resume refuses a file of another study.
 set -euo pipefail
@@ -20,6 +21,10 @@ check status "$work/r1.h5" 30 0 0
 check same "$work/r1.h5" "$work/r2.h5"
 check same "$work/r1.h5" "$work/r3.h5"
 check xarray "$work/r2.h5"
+run 1 -o "$work/d1.h5" --set solver.method=dop853
+run 2 -o "$work/d2.h5" --set solver.method=dop853 --chunk 1
+check status "$work/d1.h5" 30 0 0
+check same "$work/d1.h5" "$work/d2.h5"
 
 # Refuses to overwrite; the file is untouched.
 before=$(md5sum < "$work/r1.h5")
