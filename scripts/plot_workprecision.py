@@ -118,7 +118,8 @@ def plot_file(path, outdir, error_key, work_key, max_error=10.0, suffix=""):
         refdesc = f"reference {ref.get('file', '?')}"
     title = (f"{os.path.basename(data['study'])} ({data['scene']}): t = {data['t0']:g}..{data['t_end']:g}, "
              f"{data['outputs']} outputs, "
-             f"atol = {data['atol_ratio']:g} rtol\n{refdesc}")
+             f"atol = {data['atol_ratio']:g} rtol\n{refdesc}"
+             + ("; " + " ".join(data["set"]).replace("solver.constraints.", "") if data.get("set") else ""))
     panel(axes[0][0], data, error_key, work_key, title, max_error)
     if has_sens:
         panel(axes[0][1], data, "sens_final_rel_error", work_key,

@@ -8,7 +8,7 @@ K=${KANESENS:-build/kanesens}
 R=${REPEAT:-5}
 OUT=docs/workprecision
 mkdir -p "$OUT"
-ALL="chain4 chain16 chain4_stiff chain4_stiff_swing double_pendulum_chaos double_pendulum_lyapunov spinning_top double_pendulum_long constrained_pendulum"
+ALL="chain4 chain16 chain4_stiff chain4_stiff_swing double_pendulum_chaos double_pendulum_lyapunov spinning_top double_pendulum_long constrained_pendulum four_bar four_bar_embedding andrews rolling_disc"
 T7=1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10
 # Non-stiff problems take their reference from DOP853 at rtol 1e-13 (a BDF reference is only
 # good to ~1e-9 there, which would hide the tight end of the diagrams); the stiff chains keep BDF.
@@ -36,6 +36,14 @@ for p in ${@:-$ALL}; do
     double_pendulum_long) run double_pendulum_long configs/wp_double_pendulum_long.yaml \
                     --tolerances 1e-6,1e-7,1e-8,1e-9,1e-10 --methods bdf-exact,adams-newton,adams-functional,dop853,rk4 $NS ;;
     constrained_pendulum) run constrained_pendulum configs/wp_constrained_pendulum.yaml --tolerances $T7 $NS ;;
+    # Closed loops and a nonholonomic contact: the four-bar with its sensitivities (c, m2) under
+    # multipliers + projection and under embedding, Andrews' mechanism (stiff-ish: BDF reference),
+    # the rolling disc (nonholonomic rows, Baumgarte, sensitivity to m).
+    four_bar) run four_bar configs/four_bar_study.yaml --tolerances $T7 $NS ;;
+    four_bar_embedding) run four_bar_embedding configs/four_bar_study.yaml --tolerances $T7 $NS \
+                    --set solver.constraints.formulation=embedding --set solver.constraints.stabilization=none ;;
+    andrews) run andrews configs/andrews_study.yaml --tolerances $T7 ;;
+    rolling_disc) run rolling_disc configs/rolling_disc_study.yaml --tolerances $T7 $NS ;;
     *) echo "unknown problem $p" >&2; exit 2 ;;
   esac
 done
