@@ -17,7 +17,7 @@
 #
 #   scripts/bench_peers_simbody.sh [OUT_DIR]
 #     env: NS="1 2 4 8 16 32" ROUNDS=3 REPEAT=31 TTA_NS="2 4 8" TTA_REPS=3
-#          TOLS="1e-3 1e-4 ... 1e-12" BUDGET=20 (s: a Simbody integrator
+#          TOLS="1e-3 1e-4 ... 1e-14" BUDGET=20 (s: a Simbody integrator
 #          whose run took longer is not run at tighter tolerances for that N)
 # Writes OUT_DIR (default docs/peers) simbody.md (tables), simbody.json (all raw results) and
 # simbody_workprecision.png.
@@ -31,7 +31,7 @@ rounds=${ROUNDS:-3}
 repeat=${REPEAT:-31}
 tta_ns=${TTA_NS:-"2 4 8"}
 tta_reps=${TTA_REPS:-3}
-tols=${TOLS:-"1e-3 1e-4 1e-5 1e-6 1e-7 1e-8 1e-9 1e-10 1e-11 1e-12"}
+tols=${TOLS:-"1e-3 1e-4 1e-5 1e-6 1e-7 1e-8 1e-9 1e-10 1e-11 1e-12 1e-13 1e-14"}
 budget=${BUDGET:-20}
 work=$(mktemp -d /tmp/bench_peers_simbody.XXXXXX)
 mkdir -p "$out" "$work/scenes" "$work/raw"
