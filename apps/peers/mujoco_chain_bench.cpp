@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include "batch_timing.hpp"
+
 namespace {
 
 std::string chain_mjcf(int n) {
@@ -76,33 +78,18 @@ int main(int argc, char** argv) {
   for (int i = 0; i < m->nq; ++i) d->qpos[i] = uni(rng);
   for (int i = 0; i < m->nv; ++i) d->qvel[i] = uni(rng);
 
-  using clock = std::chrono::steady_clock;
   double sink = 0;
-  auto run = [&](long long k) {
-    const auto t0 = clock::now();
-    for (long long i = 0; i < k; ++i) {
-      mj_forward(m, d);
-      sink += d->qacc[m->nv - 1];
-    }
-    return std::chrono::duration<double>(clock::now() - t0).count();
-  };
-  long long batch = 1;
-  run(batch);
-  while (true) {
-    const double s = run(batch);
-    if (s >= batch_seconds || batch > (1LL << 40)) break;
-    batch = s > 0 ? std::max(2 * batch, static_cast<long long>(1.2 * batch * batch_seconds / s)) : 2 * batch;
-  }
-  std::vector<double> ns;
-  for (int r = 0; r < repeat; ++r) ns.push_back(run(batch) / static_cast<double>(batch) * 1e9);
-  std::sort(ns.begin(), ns.end());
-  const double median = ns[ns.size() / 2];
+  const peers::BatchTiming timing = peers::time_batches(
+      [&] {
+        mj_forward(m, d);
+        sink += d->qacc[m->nv - 1];
+      },
+      repeat, batch_seconds);
 
   std::printf("{\n  \"engine\": \"mujoco\",\n  \"mujoco_version\": %d,\n  \"n\": %d,\n  \"nq\": %d,\n  \"nv\": %d,\n",
               mj_version(), n, m->nq, m->nv);
-  std::printf("  \"seed\": %u,\n  \"repeat\": %d,\n  \"mj_forward\": {\"median_ns\": %.6g, \"min_ns\": %.6g, "
-              "\"evaluations_per_second\": %.6g, \"batch\": %lld, \"batches\": %d},\n",
-              seed, repeat, median, ns.front(), 1e9 / median, batch, repeat);
+  std::printf("  \"seed\": %u,\n  \"repeat\": %d,\n", seed, repeat);
+  peers::print_timing("mj_forward", timing);
   auto array = [](const char* name, const double* x, int k) {
     std::printf("  \"%s\": [", name);
     for (int i = 0; i < k; ++i) std::printf("%s%.17g", i ? ", " : "", x[i]);

@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "batch_timing.hpp"
 #include "four_bar_state.hpp"
 
 namespace {
@@ -121,34 +122,19 @@ void print_residuals(const mjData* d) {
 
 int bench_forward(mjModel* m, mjData* d, int repeat, double batch_seconds) {
   set_initial_state(m, d);
-  using clock = std::chrono::steady_clock;
   double sink = 0;
-  auto run = [&](long long k) {
-    const auto t0 = clock::now();
-    for (long long i = 0; i < k; ++i) {
-      mj_forward(m, d);
-      sink += d->qacc[m->nv - 1];
-    }
-    return std::chrono::duration<double>(clock::now() - t0).count();
-  };
-  long long batch = 1;
-  run(batch);
-  while (true) {
-    const double s = run(batch);
-    if (s >= batch_seconds || batch > (1LL << 40)) break;
-    batch = s > 0 ? std::max(2 * batch, static_cast<long long>(1.2 * batch * batch_seconds / s)) : 2 * batch;
-  }
-  std::vector<double> ns;
-  for (int r = 0; r < repeat; ++r) ns.push_back(run(batch) / static_cast<double>(batch) * 1e9);
-  std::sort(ns.begin(), ns.end());
-  const double median = ns[ns.size() / 2];
+  const peers::BatchTiming timing = peers::time_batches(
+      [&] {
+        mj_forward(m, d);
+        sink += d->qacc[m->nv - 1];
+      },
+      repeat, batch_seconds);
 
   std::printf("{\n  \"engine\": \"mujoco\",\n  \"mujoco_version\": %d,\n  \"scene\": \"four_bar\",\n  \"nq\": %d,\n"
               "  \"nv\": %d,\n  \"nefc\": %d,\n  \"timestep\": %.6g,\n",
               mj_version(), m->nq, m->nv, d->nefc, m->opt.timestep);
-  std::printf("  \"repeat\": %d,\n  \"mj_forward\": {\"median_ns\": %.6g, \"min_ns\": %.6g, "
-              "\"evaluations_per_second\": %.6g, \"batch\": %lld, \"batches\": %d},\n",
-              repeat, median, ns.front(), 1e9 / median, batch, repeat);
+  std::printf("  \"repeat\": %d,\n", repeat);
+  peers::print_timing("mj_forward", timing);
   print_array("qpos", d->qpos, m->nq);
   print_array("qvel", d->qvel, m->nv);
   print_array("qacc", d->qacc, m->nv);

@@ -24,6 +24,8 @@
 #include <string>
 #include <vector>
 
+#include "batch_timing.hpp"
+
 namespace {
 
 struct Chain {
@@ -68,35 +70,21 @@ int bench_realize(int n, int repeat, unsigned seed, double batch_seconds, double
   for (int i = 0; i < n; ++i) u[i] = uni(rng);
 
   double sink = 0;
-  auto run = [&](long long k) {
-    const auto t0 = std::chrono::steady_clock::now();
-    for (long long i = 0; i < k; ++i) {
-      s.updQ() = q;  // invalidates Stage::Position and later
-      s.updU() = u;
-      c.system.realize(s, SimTK::Stage::Acceleration);
-      sink += s.getUDot()[n - 1];
-    }
-    return seconds_since(t0);
-  };
-  long long batch = 1;
-  run(batch);
-  while (true) {
-    const double t = run(batch);
-    if (t >= batch_seconds || batch > (1LL << 40)) break;
-    batch = t > 0 ? std::max(2 * batch, static_cast<long long>(1.2 * batch * batch_seconds / t)) : 2 * batch;
-  }
-  std::vector<double> ns;
-  for (int r = 0; r < repeat; ++r) ns.push_back(run(batch) / static_cast<double>(batch) * 1e9);
-  std::sort(ns.begin(), ns.end());
-  const double median = ns[ns.size() / 2];
+  const peers::BatchTiming timing = peers::time_batches(
+      [&] {
+        s.updQ() = q;  // invalidates Stage::Position and later
+        s.updU() = u;
+        c.system.realize(s, SimTK::Stage::Acceleration);
+        sink += s.getUDot()[n - 1];
+      },
+      repeat, batch_seconds);
 
   int major = 0, minor = 0, build = 0;
   SimTK_version_simbody(&major, &minor, &build);
   std::printf("{\n  \"engine\": \"simbody\",\n  \"simbody_version\": \"%d.%d.%d\",\n  \"n\": %d,\n  \"nq\": %d,\n  \"nu\": %d,\n",
               major, minor, build, n, s.getNQ(), s.getNU());
-  std::printf("  \"seed\": %u,\n  \"repeat\": %d,\n  \"yy\": %.17g,\n  \"realize_acceleration\": {\"median_ns\": %.6g, "
-              "\"min_ns\": %.6g, \"evaluations_per_second\": %.6g, \"batch\": %lld, \"batches\": %d},\n",
-              seed, repeat, yy, median, ns.front(), 1e9 / median, batch, repeat);
+  std::printf("  \"seed\": %u,\n  \"repeat\": %d,\n  \"yy\": %.17g,\n", seed, repeat, yy);
+  peers::print_timing("realize_acceleration", timing);
   print_array("q", q);
   print_array("u", u);
   print_array("udot", s.getUDot());

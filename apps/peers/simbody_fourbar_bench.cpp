@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "batch_timing.hpp"
 #include "four_bar_state.hpp"
 
 namespace {
@@ -106,27 +107,14 @@ int bench_realize(int repeat, double batch_seconds) {
   const SimTK::Vector q = s.getQ(), u = s.getU();
 
   double sink = 0;
-  auto run = [&](long long k) {
-    const auto t0 = std::chrono::steady_clock::now();
-    for (long long i = 0; i < k; ++i) {
-      s.updQ() = q;  // invalidates Stage::Position and later
-      s.updU() = u;
-      fb.system.realize(s, SimTK::Stage::Acceleration);
-      sink += s.getUDot()[2];
-    }
-    return seconds_since(t0);
-  };
-  long long batch = 1;
-  run(batch);
-  while (true) {
-    const double t = run(batch);
-    if (t >= batch_seconds || batch > (1LL << 40)) break;
-    batch = t > 0 ? std::max(2 * batch, static_cast<long long>(1.2 * batch * batch_seconds / t)) : 2 * batch;
-  }
-  std::vector<double> ns;
-  for (int r = 0; r < repeat; ++r) ns.push_back(run(batch) / static_cast<double>(batch) * 1e9);
-  std::sort(ns.begin(), ns.end());
-  const double median = ns[ns.size() / 2];
+  const peers::BatchTiming timing = peers::time_batches(
+      [&] {
+        s.updQ() = q;  // invalidates Stage::Position and later
+        s.updU() = u;
+        fb.system.realize(s, SimTK::Stage::Acceleration);
+        sink += s.getUDot()[2];
+      },
+      repeat, batch_seconds);
 
   int major = 0, minor = 0, build = 0;
   SimTK_version_simbody(&major, &minor, &build);
@@ -134,9 +122,8 @@ int bench_realize(int repeat, double batch_seconds) {
   std::printf("{\n  \"engine\": \"simbody\",\n  \"simbody_version\": \"%d.%d.%d\",\n  \"scene\": \"four_bar\",\n"
               "  \"nq\": %d,\n  \"nu\": %d,\n  \"constraint_rows\": %d,\n",
               major, minor, build, s.getNQ(), s.getNU(), s.getNMultipliers());
-  std::printf("  \"repeat\": %d,\n  \"realize_acceleration\": {\"median_ns\": %.6g, \"min_ns\": %.6g, "
-              "\"evaluations_per_second\": %.6g, \"batch\": %lld, \"batches\": %d},\n",
-              repeat, median, ns.front(), 1e9 / median, batch, repeat);
+  std::printf("  \"repeat\": %d,\n", repeat);
+  peers::print_timing("realize_acceleration", timing);
   print_array("q", q);
   print_array("u", u);
   print_array("udot", s.getUDot());

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "solve/dop853_tableau.hpp"
+#include "solve/output_times.hpp"
 
 namespace kanesens::solve {
 
@@ -192,10 +193,7 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   options.validate(problem.size());
-  if (times.empty()) throw std::invalid_argument("dop853: output_times is empty (need at least t0)");
-  for (std::size_t k = 0; k < times.size(); ++k)
-    if (!std::isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1])))
-      throw std::invalid_argument("dop853: output_times must be finite and strictly increasing");
+  check_output_times(times, "dop853");
   const int ns = problem.num_sensitivities();
   if (ns > 0 && (!problem.has_sensitivity_rhs() || options.sens_rhs != SensitivityRhs::exact))
     throw std::invalid_argument("solver.method = dop853 needs the exact sensitivity right-hand side "

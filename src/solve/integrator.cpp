@@ -1,6 +1,7 @@
 #include "solve/integrator.hpp"
 
 #include "solve/dop853.hpp"
+#include "solve/output_times.hpp"
 
 #include <cvodes/cvodes.h>
 #include <cvodes/cvodes_ls.h>
@@ -238,16 +239,7 @@ void Integrator::Impl::check_problem(OdeProblem& problem, std::span<const double
   const int n_sens = problem.num_sensitivities();
   if (n_sens < 0) invalid("integrate: num_sensitivities() < 0");
 
-  if (times.empty()) invalid("integrate: output_times is empty (need at least t0)");
-  for (std::size_t k = 0; k < times.size(); ++k) {
-    if (!std::isfinite(times[k]))
-      invalid("integrate: output_times[" + std::to_string(k) + "] is not finite");
-    if (k > 0 && !(times[k] > times[k - 1])) {
-      invalid("integrate: output_times must be strictly increasing; output_times[" +
-              std::to_string(k) + "] = " + format_time(times[k]) +
-              " <= " + format_time(times[k - 1]));
-    }
-  }
+  check_output_times(times, "integrate");
 
   if (options.iteration == Iteration::newton && options.jacobian == JacobianKind::exact &&
       !problem.has_jacobian()) {

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "solve/output_times.hpp"
+
 namespace kanesens::solve {
 
 namespace {
@@ -26,10 +28,7 @@ IntegrationResult integrate_rk4(OdeProblem& problem, const Rk4Options& options,
   const auto start = clock::now();
   if (!(options.h > 0 && std::isfinite(options.h)))
     throw std::invalid_argument("rk4: step h must be a finite number > 0");
-  if (times.empty()) throw std::invalid_argument("rk4: output_times is empty (need at least t0)");
-  for (std::size_t k = 0; k < times.size(); ++k)
-    if (!std::isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1])))
-      throw std::invalid_argument("rk4: output_times must be finite and strictly increasing");
+  check_output_times(times, "rk4");
   const int ns = options.sensitivities ? problem.num_sensitivities() : 0;
   if (ns > 0 && !problem.has_sensitivity_rhs())
     throw std::invalid_argument("rk4: sensitivities need the problem's exact sensitivity_rhs");
