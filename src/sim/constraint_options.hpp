@@ -7,7 +7,8 @@ struct ConstraintOptions {
   enum class Formulation { multipliers, embedding };
   // Drift of the position and velocity constraints: left alone (none), damped by Baumgarte
   // terms in the acceleration constraint (A u̇ = b − 2α(Au + a0) − β²g), or removed after every
-  // step by projecting the state onto the constraint manifold (CVODES projection, BDF only).
+  // step by projecting the state onto the constraint manifold (CVODES projection with BDF, or
+  // after every accepted DOP853 step; not with Adams).
   enum class Stabilization { none, baumgarte, projection };
   Formulation formulation = Formulation::multipliers;
   Stabilization stabilization = Stabilization::projection;

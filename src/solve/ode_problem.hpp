@@ -65,7 +65,8 @@ class OdeProblem {
   virtual double* dq_parameters() { return nullptr; }
   virtual std::vector<int> dq_parameter_list() const { return {}; }
 
-  // Projection onto a constraint manifold after each step (CVodeSetProjFn; BDF only). Given
+  // Projection onto a constraint manifold after each step (CVodeSetProjFn with BDF; DOP853 calls
+  // it after every accepted step, err = nullptr). Given
   // the step's solution y (n), write the correction corr (n) so that y + corr is the projected
   // state (‖corr‖ within the weighted tolerance eps_proj). err (n, may be nullptr) is CVODES's
   // local error estimate; when not null, overwrite it with its projection (P err). Return 0 on
