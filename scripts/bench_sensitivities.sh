@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # Cost of forward sensitivities and time per trajectory (docs/benchmarks.md, "Sensitivities").
-# 1. The 4-link chain over 10 s at rtol 1e-8 with S = 0, 1, 3, 10 sensitivities, exact (dual
-#    numbers) and CVODES difference-quotient sensitivity right-hand sides, staggered corrector.
+# 1. The 4-link chain over 10 s at rtol 1e-8 with S = 0, 1, 3, 10 sensitivities: CVODES BDF with
+#    exact (dual numbers) and CVODES difference-quotient sensitivity right-hand sides, staggered
+#    corrector; and DOP853 (solver.method: dop853, sensitivities by its own stages, exact RHS).
 # 2. Time per trajectory of the N-link chain (N = 2, 8, 32) at rtol 1e-8, no sensitivities.
 # Medians of K runs (default 5) from `kanesens simulate` stats (wall_seconds: the integration).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 k=${K:-5}
 py=${KANESENS_PYTHON:-/usr/bin/python3}
-exe="$root/build/kanesens"
+exe=${KANESENS:-$root/build/kanesens}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cat > "$work/chain4.yaml" <<YAML
@@ -21,8 +22,9 @@ sets=("none" "m" "m,L,c" "m,L,c,k,j1.q0,j2.q0,j3.q0,j4.q0,j1.u0,j2.u0")
 "$py" - "$exe" "$work/chain4.yaml" "$k" "${sets[@]}" <<'PY'
 import json, statistics, subprocess, sys
 exe, study, k, sets = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4:]
-def run(sens, rhs):
-    args = [exe, "simulate", study, "--set", f"solver.sensitivity.rhs={rhs}", "--sens", sens]
+def run(sens, rhs, method="bdf"):
+    args = [exe, "simulate", study, "--set", f"solver.sensitivity.rhs={rhs}", "--set", f"solver.method={method}",
+            "--sens", sens]
     walls, st = [], None
     for _ in range(k):
         p = subprocess.run(args, capture_output=True, text=True)
@@ -31,18 +33,20 @@ def run(sens, rhs):
             return None, d
         walls.append(d["stats"]["wall_seconds"]); st = d["stats"]
     return statistics.median(walls), st
-base, bst = run("none", "exact")
-print("| S | sens RHS | median wall (ms) | wall / plain | per added sensitivity | steps | RHS evals | sens RHS evals | RHS evals for DQ |")
-print("|---:|---|---:|---:|---:|---:|---:|---:|---:|")
-print(f"| 0 | — | {base*1e3:.2f} | 1.00 | — | {bst['steps']} | {bst['rhs_evals']} | 0 | 0 |")
-for sens in sets[1:]:
-    S = len(sens.split(","))
-    for rhs in ("exact", "dq"):
-        w, st = run(sens, rhs)
-        if w is None:
-            print(f"| {S} | {rhs} | failed: {st['message'].split(':')[0]} | | | | | | |")
-            continue
-        print(f"| {S} | {rhs} | {w*1e3:.2f} | {w/base:.2f} | {(w/base-1)/S:.2f} | {st['steps']} | {st['rhs_evals']} | {st['sens_rhs_evals']} | {st['rhs_evals_for_sens']} |")
+print("| method | S | sens RHS | median wall (ms) | wall / plain | per added sensitivity | steps | RHS evals | sens RHS evals | RHS evals for DQ |")
+print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|")
+for method, kinds in (("bdf", ("exact", "dq")), ("dop853", ("exact",))):
+    base, bst = run("none", "exact", method)
+    print(f"| {method} | 0 | — | {base*1e3:.2f} | 1.00 | — | {bst['steps']} | {bst['rhs_evals']} | 0 | 0 |")
+    for sens in sets[1:]:
+        S = len(sens.split(","))
+        for rhs in kinds:
+            w, st = run(sens, rhs, method)
+            if w is None:
+                print(f"| {method} | {S} | {rhs} | failed: {st['message'].split(':')[0]} | | | | | | |")
+                continue
+            print(f"| {method} | {S} | {rhs} | {w*1e3:.2f} | {w/base:.2f} | {(w/base-1)/S:.2f} | {st['steps']} | "
+                  f"{st['rhs_evals']} | {st['sens_rhs_evals']} | {st['rhs_evals_for_sens']} |")
 PY
 echo
 echo "| N | median wall per trajectory (ms), 10 s, rtol 1e-8 | steps | RHS evals | Jacobians |"
