@@ -17,6 +17,25 @@ namespace kanesens::testing {
 
 using Stab = ConstraintOptions::Stabilization;
 
+// A rod on a planar joint pinned at its top end to the ground (2 coincident rows), released at
+// theta0 with angular rate w0: the scene of the multiplier- and projection-sensitivity tests
+// (parameters m, L, theta0 and the initial rate base.u0[2] to differentiate with respect to).
+inline constexpr const char* kSpinningPinnedPendulum = R"yaml(
+kanesens: 1
+scene:
+  name: constrained_pendulum_sens
+  gravity: [0, -9.81, 0]
+  parameters: {m: 1.3, L: 0.8, theta0: 0.5, w0: 0.7}
+  bodies:
+    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}
+  joints:
+    - {name: base, type: planar, parent: ground, child: rod, axis: [0, 0, 1],
+       q0: ["L/2*sin(theta0)", "-L/2*cos(theta0)", theta0],
+       u0: ["L/2*cos(theta0)*w0", "L/2*sin(theta0)*w0", w0]}
+  constraints:
+    - {name: pin, type: coincident, body_a: rod, point_a: [0, "L/2", 0], body_b: ground, point_b: [0, 0, 0]}
+)yaml";
+
 inline ConstraintOptions constraint_options(Stab s) {
   ConstraintOptions c;
   c.stabilization = s;
