@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "solve/integrator.hpp"
+#include "sim/solve/integrator.hpp"
 
 namespace ks = kanesens::solve;
 

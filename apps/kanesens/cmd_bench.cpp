@@ -15,11 +15,11 @@
 #include <iostream>
 #include <random>
 
-#include "ad/dual.hpp"
+#include "math/dual.hpp"
 #include "commands.hpp"
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "sim/kane_problem.hpp"
 #include "util/json_writer.hpp"
 

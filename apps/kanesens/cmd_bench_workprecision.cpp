@@ -52,7 +52,7 @@
 #include "commands.hpp"
 #include "model/build_model.hpp"
 #include "sim/simulate.hpp"
-#include "solve/rk4.hpp"
+#include "sim/solve/rk4.hpp"
 #include "study/study_spec.hpp"
 #include "util/error.hpp"
 #include "util/json_writer.hpp"

@@ -4,10 +4,10 @@
 #include "commands.hpp"
 #include <Eigen/Dense>
 
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
 #include "sim/kane_problem.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "util/did_you_mean.hpp"
 
 namespace kanesens::cli {

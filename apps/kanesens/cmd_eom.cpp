@@ -3,9 +3,9 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "util/json_writer.hpp"
 #include "util/parse_number.hpp"
 

@@ -4,41 +4,9 @@
 #include <cmath>
 #include <set>
 
-#include "model/workspace.hpp"
 #include "util/did_you_mean.hpp"
 
 namespace kanesens {
-
-const char* joint_type_name(JointType t) {
-  switch (t) {
-    case JointType::revolute: return "revolute";
-    case JointType::prismatic: return "prismatic";
-    case JointType::cylindrical: return "cylindrical";
-    case JointType::universal: return "universal";
-    case JointType::planar: return "planar";
-    case JointType::spherical: return "spherical";
-    case JointType::free: return "free";
-    case JointType::weld: return "weld";
-  }
-  return "?";
-}
-
-int Model::find_parameter(const std::string& n) const {
-  for (int i = 0; i < nparam(); ++i)
-    if (parameters[i].name == n) return i;
-  return -1;
-}
-int Model::find_body(const std::string& n) const {
-  if (n == "ground") return -1;
-  for (int i = 0; i < nbody(); ++i)
-    if (bodies[i].name == n) return i;
-  return -2;
-}
-std::vector<double> Model::nominal_parameters() const {
-  std::vector<double> p;
-  for (const auto& par : parameters) p.push_back(par.nominal);
-  return p;
-}
 
 namespace {
 
@@ -531,7 +499,7 @@ class Builder {
         c.axis = add3(cs.axis, false);
         c.normal = add3(cs.normal, false);
         rows = {c.name + ".x", c.name + ".y", c.name + ".z"};
-        c.holonomic = {0, 0, 0};  // contact-point velocity; see kane/constraints.cpp
+        c.holonomic = {0, 0, 0};  // contact-point velocity; see dynamics/constraints.cpp
       }
       c.row_offset = row;
       c.nrows = static_cast<int>(rows.size());
@@ -559,70 +527,6 @@ class Builder {
 Model build_model(const SceneSpec& spec, const std::map<std::string, double>& overrides) {
   if (spec.bodies.empty()) throw InputError({spec.file, 0, 0}, "scene.bodies", "a scene needs at least one body");
   return Builder(spec, overrides).build();
-}
-
-std::optional<ParameterProblem> find_parameter_problem(const Model& model, const double* parameters) {
-  Workspace<double> ws(model);
-  set_parameters(model, ws, parameters);
-  const SceneSpec& spec = model.spec;
-  auto problem = [](std::string message, SourceLocation where, std::string key) {
-    return std::optional<ParameterProblem>(ParameterProblem{std::move(message), std::move(where), std::move(key)});
-  };
-  for (int i = 0; i < model.nparam(); ++i)
-    if (!std::isfinite(ws.parameters[i])) {
-      const std::size_t k = static_cast<std::size_t>(i);
-      const SourceLocation w = k < spec.parameters.size() ? spec.parameters[k].value.where : SourceLocation{spec.file, 0, 0};
-      const std::string key = k < spec.parameters.size() ? spec.parameters[k].value.key : "scene.parameters";
-      return problem("parameter '" + model.parameters[i].name + "' is not finite (" + std::to_string(ws.parameters[i]) +
-                         "; a division by zero or a value out of range?)",
-                     w, key);
-    }
-  for (Slot s : model.parameter_slots)
-    if (!std::isfinite(ws.values[s])) {
-      const expr::Expression& e = model.expressions[s];
-      return problem("expression '" + e.text() + "' is not finite (" + std::to_string(ws.values[s]) +
-                         "; a division by zero or a value out of range?)",
-                     e.where(), e.key());
-    }
-  for (int b = 0; b < model.nbody(); ++b) {
-    const std::string& name = model.bodies[b].name;
-    const BodySpec& bs = spec.bodies[static_cast<std::size_t>(b)];
-    const double m = ws.mass[b];
-    if (!(m > 0)) return problem("body '" + name + "': mass must be > 0, found " + std::to_string(m), bs.mass.where, bs.mass.key);
-    const Eigen::Matrix3d I = ws.inertia_body[b];
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
-    const Eigen::Vector3d ev = eig.eigenvalues();
-    const double scale = std::max(1e-300, ev.cwiseAbs().maxCoeff());
-    if (ev.minCoeff() < -1e-12 * scale)
-      return problem("body '" + name + "': inertia is not positive semi-definite (principal moments " +
-                         std::to_string(ev[0]) + ", " + std::to_string(ev[1]) + ", " + std::to_string(ev[2]) + ")",
-                     bs.where, bs.key + ".inertia");
-    if (ev[0] + ev[1] < ev[2] - 1e-9 * scale)
-      return problem("body '" + name + "': inertia violates the triangle inequality (principal moments " +
-                         std::to_string(ev[0]) + " + " + std::to_string(ev[1]) + " < " + std::to_string(ev[2]) + ")",
-                     bs.where, bs.key + ".inertia");
-  }
-  for (std::size_t ji = 0; ji < model.joints.size(); ++ji) {
-    const Joint& j = model.joints[ji];
-    const JointSpec& js = spec.joints[ji];
-    const bool universal = j.type == JointType::universal;
-    auto axis_where = [&](int which) {
-      if (universal && js.axes.size() > static_cast<std::size_t>(which)) return js.axes[static_cast<std::size_t>(which)][0].where;
-      if (js.axis) return (*js.axis)[0].where;
-      return js.where;
-    };
-    const std::string axis_key = universal ? js.key + ".axes" : js.key + ".axis";
-    if (j.axis[0] >= 0 && !(ws.joint_axis[ji].norm() > 0))
-      return problem("joint '" + j.name + "': axis has zero length", axis_where(0), universal ? axis_key + "[0]" : axis_key);
-    if (j.axis2[0] >= 0 && !(ws.joint_axis2[ji].norm() > 0))
-      return problem("joint '" + j.name + "': second axis has zero length", axis_where(1), axis_key + "[1]");
-  }
-  return std::nullopt;
-}
-
-std::string check_parameters(const Model& model, const double* parameters) {
-  const auto p = find_parameter_problem(model, parameters);
-  return p ? p->message : "";
 }
 
 }  // namespace kanesens

@@ -1,5 +1,5 @@
 // The immutable Model: topology, coordinates, speeds, parameters and compiled expressions of a
-// scene. Built once by build_model(); evaluated through Workspace<Scalar> (model/workspace.hpp).
+// scene. Built once by build_model(); evaluated through Workspace<Scalar> (dynamics/workspace.hpp).
 //
 // Notation (docs/scene-format.md): nq coordinates q, nu speeds u, state y = [q; u].
 // Every number of the scene is an expression stored in `expressions`; a "slot" is an index into
@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "expr/expression.hpp"
-#include "scene/scene_spec.hpp"
+#include "model/expr/expression.hpp"
+#include "model/scene/scene_spec.hpp"
 
 namespace kanesens {
 
@@ -133,7 +133,7 @@ struct Model {
   // q = 0 frames are parallel, so every body then rotates about z only.) Points, gravity, forces
   // and inertias may be anything: a planar motion's power sees only ω_z, v_x, v_y and τ_z, F_x,
   // F_y, so out-of-plane components cannot change M or f. Planar scenes are evaluated with
-  // 3-component spatial vectors (kane/planar.hpp): a planar scene pays planar work (DESIGN §2).
+  // 3-component spatial vectors (math/planar.hpp): a planar scene pays planar work (DESIGN §2).
   bool planar = false;
   // Evaluate with the general 3-D code even when `planar` (tests and benchmarks compare both).
   bool force_general_3d = false;

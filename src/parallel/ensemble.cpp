@@ -24,6 +24,7 @@
 #include "study/parse_vary.hpp"
 #include "study/study_spec.hpp"
 #include "study/yaml_read.hpp"
+#include "parallel/version.hpp"
 #include "util/version.hpp"
 
 namespace kanesens::parallel {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
 #include "util/error.hpp"
 

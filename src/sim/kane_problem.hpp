@@ -12,13 +12,13 @@
 #include <memory>
 #include <vector>
 
-#include "ad/dual.hpp"
-#include "model/workspace.hpp"
+#include "math/dual.hpp"
+#include "dynamics/workspace.hpp"
 #include "sim/constraint_options.hpp"
-#include "sim/embedding.hpp"
+#include "dynamics/embedding.hpp"
 #include "sim/inputs.hpp"
-#include "sim/min_norm_solver.hpp"
-#include "solve/ode_problem.hpp"
+#include "math/min_norm_solver.hpp"
+#include "sim/solve/ode_problem.hpp"
 
 namespace kanesens {
 

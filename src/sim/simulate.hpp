@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "sim/kane_problem.hpp"
-#include "solve/integrator.hpp"
+#include "sim/solve/integrator.hpp"
 
 namespace kanesens {
 

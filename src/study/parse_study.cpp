@@ -1,8 +1,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "scene/parse_scene.hpp"
-#include "scene/yaml_util.hpp"
+#include "model/scene/parse_scene.hpp"
+#include "model/yaml_util.hpp"
 #include "study/study_spec.hpp"
 #include "util/parse_number.hpp"
 

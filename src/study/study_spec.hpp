@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "scene/scene_spec.hpp"
+#include "model/scene/scene_spec.hpp"
 #include "sim/constraint_options.hpp"
-#include "solve/solver_options.hpp"
+#include "sim/solve/solver_options.hpp"
 
 namespace kanesens {
 

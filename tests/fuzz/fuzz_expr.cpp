@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "expr/expression.hpp"
+#include "model/expr/expression.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace kanesens::expr;

@@ -18,9 +18,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "sim/simulate.hpp"
 
 namespace ks = kanesens;

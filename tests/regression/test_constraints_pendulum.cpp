@@ -23,7 +23,7 @@
 #include <cstdio>
 
 #include "../support/constraint_test_support.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 
 namespace ks = kanesens;
 using namespace kanesens::testing;

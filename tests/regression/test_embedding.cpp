@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
-#include "scene/yaml_util.hpp"
+#include "model/scene/parse_scene.hpp"
+#include "model/yaml_util.hpp"
 #include "sim/simulate.hpp"
 
 using namespace kanesens;

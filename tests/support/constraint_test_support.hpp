@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "kane_test_support.hpp"
 #include "sim/simulate.hpp"
 
@@ -91,7 +91,7 @@ inline TrajRun run(const Model& model, const std::vector<double>& times, Constra
   return r;
 }
 
-// Multipliers, rank and u̇ at one state, straight from the kane/ functions.
+// Multipliers, rank and u̇ at one state, straight from the dynamics/ functions.
 struct Evaluation {
   std::vector<double> lambda, ydot;
   int rank = 0;

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "solve/ode_problem.hpp"
+#include "sim/solve/ode_problem.hpp"
 
 namespace kanesens::testing {
 

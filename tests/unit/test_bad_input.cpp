@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "expr/expression.hpp"
+#include "model/expr/expression.hpp"
 #include "model/build_model.hpp"
 #include "parallel/ensemble.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 
 using namespace kanesens;
 

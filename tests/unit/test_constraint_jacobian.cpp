@@ -8,9 +8,9 @@
 
 #include <random>
 
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "kane_test_support.hpp"
-#include "sim/min_norm_solver.hpp"
+#include "math/min_norm_solver.hpp"
 
 using namespace kanesens;
 using kanesens::testing::qdot_of;

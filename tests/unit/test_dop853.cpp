@@ -13,8 +13,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "solve/dop853.hpp"
-#include "solve/integrator.hpp"
+#include "sim/solve/dop853.hpp"
+#include "sim/solve/integrator.hpp"
 #include "spring_problem.hpp"
 
 namespace ks = kanesens::solve;

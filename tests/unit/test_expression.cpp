@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "ad/dual.hpp"
-#include "expr/expression.hpp"
+#include "math/dual.hpp"
+#include "model/expr/expression.hpp"
 
 using namespace kanesens;
 using namespace kanesens::expr;

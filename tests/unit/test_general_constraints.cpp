@@ -7,8 +7,8 @@
 #include <sstream>
 #include <string>
 
-#include "ad/dual.hpp"
-#include "kane/equations.hpp"
+#include "math/dual.hpp"
+#include "dynamics/equations.hpp"
 #include "kane_test_support.hpp"
 
 using namespace kanesens;

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "solve/integrator.hpp"
+#include "sim/solve/integrator.hpp"
 
 namespace ks = kanesens::solve;
 

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "../support/kane_test_support.hpp"
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 
 namespace ks = kanesens;
 using namespace kanesens::testing;

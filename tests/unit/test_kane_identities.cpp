@@ -21,8 +21,8 @@
 #include <functional>
 
 #include "../support/kane_test_support.hpp"
-#include "ad/dual.hpp"
-#include "kane/equations.hpp"
+#include "math/dual.hpp"
+#include "dynamics/equations.hpp"
 
 namespace ks = kanesens;
 using namespace kanesens::testing;

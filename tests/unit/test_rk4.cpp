@@ -13,7 +13,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "solve/rk4.hpp"
+#include "sim/solve/rk4.hpp"
 #include "spring_problem.hpp"
 
 namespace ks = kanesens::solve;

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 
 using namespace kanesens;
 

@@ -1,0 +1,36 @@
+#include "model/model.hpp"
+
+namespace kanesens {
+
+const char* joint_type_name(JointType t) {
+  switch (t) {
+    case JointType::revolute: return "revolute";
+    case JointType::prismatic: return "prismatic";
+    case JointType::cylindrical: return "cylindrical";
+    case JointType::universal: return "universal";
+    case JointType::planar: return "planar";
+    case JointType::spherical: return "spherical";
+    case JointType::free: return "free";
+    case JointType::weld: return "weld";
+  }
+  return "?";
+}
+
+int Model::find_parameter(const std::string& n) const {
+  for (int i = 0; i < nparam(); ++i)
+    if (parameters[i].name == n) return i;
+  return -1;
+}
+int Model::find_body(const std::string& n) const {
+  if (n == "ground") return -1;
+  for (int i = 0; i < nbody(); ++i)
+    if (bodies[i].name == n) return i;
+  return -2;
+}
+std::vector<double> Model::nominal_parameters() const {
+  std::vector<double> p;
+  for (const auto& par : parameters) p.push_back(par.nominal);
+  return p;
+}
+
+}  // namespace kanesens
