@@ -25,6 +25,10 @@
 
 namespace kanesens::cli {
 
+using namespace kanesens::dynamics;
+using namespace kanesens::model;
+using namespace kanesens::sim;
+
 namespace {
 struct BenchOptions {
   std::string scene;

@@ -12,6 +12,10 @@
 
 namespace kanesens::cli {
 
+using namespace kanesens::dynamics;
+using namespace kanesens::model;
+using namespace kanesens::sim;
+
 CLI::App* add_check(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("check", "Validate a scene and print its bodies, joints, coordinates, speeds and parameters");
   auto path = std::make_shared<std::string>();

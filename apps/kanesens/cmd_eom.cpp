@@ -11,6 +11,9 @@
 
 namespace kanesens::cli {
 
+using namespace kanesens::dynamics;
+using namespace kanesens::model;
+
 namespace {
 struct EomOptions {
   std::string scene, q, u;

@@ -11,6 +11,12 @@
 
 namespace kanesens::cli {
 
+using namespace kanesens::dynamics;
+using namespace kanesens::model;
+using namespace kanesens::sim;
+using study::StudySpec;
+using study::parse_study_file;
+
 namespace {
 struct SimulateOptions {
   std::string study, sens, format = "json";
@@ -142,7 +148,7 @@ int run_simulate(const SimulateOptions& o) {
   KaneProblem problem(m, sens, study.constraints);
   problem.set_initial_time(study.output_times.front());
   problem.set_sample(inputs);
-  solve::Integrator integrator(study.solver);
+  sim::Integrator integrator(study.solver);
   RecordFlags flags;
   flags.states = true;
   flags.sensitivities = !sens.empty();

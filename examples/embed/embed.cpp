@@ -21,19 +21,19 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    using namespace kanesens;
-    const Model model = build_model(parse_scene_file(argv[1]));
+    namespace ks = kanesens;
+    const ks::model::Model model = ks::model::build_model(ks::model::parse_scene_file(argv[1]));
     const double t_end = argc > 2 ? std::atof(argv[2]) : 1.0;
 
     // One evaluation: the nominal parameters, the scene's initial state, M u̇ = f solved for u̇.
-    KaneProblem problem(model, {});
+    ks::sim::KaneProblem problem(model, {});
     std::vector<double> y0(static_cast<std::size_t>(problem.size()));
     problem.initial_state(y0.data());
-    Workspace<double> ws(model);
+    ks::dynamics::Workspace<double> ws(model);
     const std::vector<double> p = model.nominal_parameters();
-    set_parameters(model, ws, p.data());
+    ks::dynamics::set_parameters(model, ws, p.data());
     std::vector<double> ydot(static_cast<std::size_t>(model.nstate()));
-    if (!evaluate_rhs(model, ws, 0.0, y0.data(), ydot.data())) {
+    if (!ks::dynamics::evaluate_rhs(model, ws, 0.0, y0.data(), ydot.data())) {
       std::fprintf(stderr, "the mass matrix is not positive definite at the initial state\n");
       return 1;
     }
@@ -44,11 +44,11 @@ int main(int argc, char** argv) {
     // An integration with CVODES (BDF, exact Jacobian): the state at 5 output times.
     std::vector<double> times;
     for (int k = 0; k <= 4; ++k) times.push_back(t_end * k / 4);
-    solve::Integrator integrator(solve::SolverOptions{});
-    RecordFlags flags;
+    ks::sim::Integrator integrator(ks::sim::SolverOptions{});
+    ks::sim::RecordFlags flags;
     flags.sensitivities = false;
-    Trajectory traj;
-    simulate(problem, integrator, times, flags, traj);
+    ks::sim::Trajectory traj;
+    ks::sim::simulate(problem, integrator, times, flags, traj);
     if (!traj.result.ok()) {
       std::fprintf(stderr, "integration failed: %s\n", traj.result.message.c_str());
       return 1;

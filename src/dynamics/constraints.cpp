@@ -10,7 +10,7 @@
 #include "dynamics/equations.hpp"
 #include "math/planar.hpp"
 
-namespace kanesens {
+namespace kanesens::dynamics {
 namespace {
 
 template <class S>
@@ -219,7 +219,7 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
   // M⁻¹ Aᵀ, column by column.
   for (int j = 0; j < nc; ++j) {
     for (int k = 0; k < n; ++k) ws.scratch_nu[k] = ws.constraint_matrix(j, k);
-    cholesky_solve(ws.cholesky.data(), n, n, ws.scratch_nu.data());
+    math::cholesky_solve(ws.cholesky.data(), n, n, ws.scratch_nu.data());
     for (int k = 0; k < n; ++k) ws.minv_at(k, j) = ws.scratch_nu[k];
   }
   // Schur complement and right-hand side b − A M⁻¹ f (ws.udot holds M⁻¹ f).
@@ -300,13 +300,13 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
         for (int i = 0; i < nc; ++i) s += N(i, a) * N(i, b);
         G[b * ldg + a] = s;
       }
-    cholesky_factor(G, ldg, G, ldg, d);
+    math::cholesky_factor(G, ldg, G, ldg, d);
     for (int a = 0; a < d; ++a) {  // y = Nᵀ λ_p, kept in schur_rhs (no longer needed)
       S s = S(0);
       for (int i = 0; i < nc; ++i) s += N(i, a) * lam[i];
       ws.schur_rhs[a] = s;
     }
-    cholesky_solve(G, ldg, d, ws.schur_rhs.data());
+    math::cholesky_solve(G, ldg, d, ws.schur_rhs.data());
     for (int i = 0; i < nc; ++i)
       for (int a = 0; a < d; ++a) lam[i] -= N(i, a) * ws.schur_rhs[a];
   }
@@ -323,4 +323,4 @@ KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
 #undef KANESENS_INSTANTIATE
 
-}  // namespace kanesens
+}  // namespace kanesens::dynamics

@@ -7,7 +7,7 @@
 #include "math/cholesky.hpp"
 #include "dynamics/equations.hpp"
 
-namespace kanesens {
+namespace kanesens::dynamics {
 
 EmbeddingSets choose_embedding(const Eigen::MatrixXd& A) {
   EmbeddingSets s;
@@ -161,10 +161,10 @@ bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, con
   }
   // M̃ u̇_i = f̃ by Cholesky of M̃ in place.
   const std::ptrdiff_t ldm = sc.Mt.outerStride();
-  if (!cholesky_factor(sc.Mt.data(), ldm, sc.Mt.data(), ldm, ni)) return false;
+  if (!math::cholesky_factor(sc.Mt.data(), ldm, sc.Mt.data(), ldm, ni)) return false;
   S* uid = ydot + m.nq;
   for (int i = 0; i < ni; ++i) uid[i] = sc.ft[i];
-  cholesky_solve(sc.Mt.data(), ldm, ni, uid);
+  math::cholesky_solve(sc.Mt.data(), ldm, ni, uid);
   for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
   return true;
 }
@@ -179,4 +179,4 @@ KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
 #undef KANESENS_INSTANTIATE
 
-}  // namespace kanesens
+}  // namespace kanesens::dynamics

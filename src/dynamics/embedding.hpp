@@ -12,7 +12,7 @@
 
 #include "dynamics/workspace.hpp"
 
-namespace kanesens {
+namespace kanesens::dynamics {
 
 struct EmbeddingSets {
   std::vector<int> independent;  // speeds that are states (ni)
@@ -48,4 +48,4 @@ template <class S>
 bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, const EmbeddingSets& sets,
                   const S& t, const S* y, S* ydot);
 
-}  // namespace kanesens
+}  // namespace kanesens::dynamics

@@ -7,7 +7,10 @@
 #include "dynamics/force_elements.hpp"
 #include "dynamics/planar_stages.hpp"
 
-namespace kanesens {
+namespace kanesens::dynamics {
+
+using math::cross_force;
+using math::wrench_at_origin;
 
 template <class S>
 void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
@@ -60,9 +63,9 @@ template <class S>
 bool solve_accelerations(const Model& m, Workspace<S>& ws) {
   // M = Uᵀ U into ws.cholesky (kept: solve_constrained_accelerations reuses it), u̇ = M⁻¹ f.
   const int n = m.nu;
-  if (!cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n)) return false;
+  if (!math::cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n)) return false;
   ws.udot = ws.forcing;
-  cholesky_solve(ws.cholesky.data(), n, n, ws.udot.data());
+  math::cholesky_solve(ws.cholesky.data(), n, n, ws.udot.data());
   return true;
 }
 
@@ -137,4 +140,4 @@ KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
 #undef KANESENS_INSTANTIATE
 
-}  // namespace kanesens
+}  // namespace kanesens::dynamics

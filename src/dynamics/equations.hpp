@@ -19,7 +19,7 @@
 #pragma once
 #include "dynamics/workspace.hpp"
 
-namespace kanesens {
+namespace kanesens::dynamics {
 
 template <class S>
 void evaluate_state_expressions(const Model& m, Workspace<S>& ws, const S& t, const S* q, const S* u);
@@ -64,4 +64,4 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q);
 // sphere the term vanishes, so exact solutions are unchanged; off it, |q| relaxes back to 1.
 inline constexpr double kQuaternionStabilization = 1.0;
 
-}  // namespace kanesens
+}  // namespace kanesens::dynamics

@@ -7,7 +7,9 @@
 #include "math/dual.hpp"
 #include "dynamics/workspace.hpp"
 
-namespace kanesens::detail {
+namespace kanesens::dynamics::detail {
+
+using math::wrench_at_origin;
 
 template <class S>
 Vec3<S> slot_vec3(const Workspace<S>& ws, const Slot3& s) {
@@ -78,4 +80,4 @@ void add_joint_spring_dampers(const Model& m, Workspace<S>& ws, const S* q, cons
   }
 }
 
-}  // namespace kanesens::detail
+}  // namespace kanesens::dynamics::detail

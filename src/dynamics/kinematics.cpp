@@ -3,7 +3,12 @@
 #include "dynamics/equations.hpp"
 #include "dynamics/planar_stages.hpp"
 
-namespace kanesens {
+namespace kanesens::dynamics {
+
+using math::axis_angle;
+using math::body_spatial_inertia;
+using math::cross_motion;
+using math::quaternion_rotation;
 
 template <class S>
 void evaluate_state_expressions(const Model& m, Workspace<S>& ws, const S& t, const S* q, const S* u) {
@@ -143,4 +148,4 @@ KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
 #undef KANESENS_INSTANTIATE
 
-}  // namespace kanesens
+}  // namespace kanesens::dynamics

@@ -9,7 +9,10 @@
 #include "dynamics/force_elements.hpp"
 #include "dynamics/planar_stages.hpp"
 
-namespace kanesens::detail {
+namespace kanesens::dynamics::detail {
+
+using math::cross_force_planar;
+using math::cross_motion_planar;
 
 template <class S>
 void compute_position_planar(const Model& m, Workspace<S>& ws, const S* q) {
@@ -152,4 +155,4 @@ KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
 #undef KANESENS_INSTANTIATE
 
-}  // namespace kanesens::detail
+}  // namespace kanesens::dynamics::detail

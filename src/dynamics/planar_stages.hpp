@@ -4,7 +4,7 @@
 #pragma once
 #include "dynamics/workspace.hpp"
 
-namespace kanesens::detail {
+namespace kanesens::dynamics::detail {
 
 template <class S>
 void compute_position_planar(const Model& m, Workspace<S>& ws, const S* q);
@@ -16,4 +16,4 @@ void compute_mass_matrix_planar(const Model& m, Workspace<S>& ws);
 template <class S>
 void compute_forcing_planar(const Model& m, Workspace<S>& ws);
 
-}  // namespace kanesens::detail
+}  // namespace kanesens::dynamics::detail

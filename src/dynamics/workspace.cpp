@@ -3,7 +3,9 @@
 #include "math/dual.hpp"
 #include "model/parameters.hpp"
 
-namespace kanesens {
+namespace kanesens::dynamics {
+
+using math::unit_or_zero;
 
 template <class S>
 Workspace<S>::Workspace(const Model& m)
@@ -74,7 +76,7 @@ Vec3<S> vec3(const Workspace<S>& ws, const Slot3& s) {
 
 template <class S>
 void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
-  evaluate_parameter_values(m, p, ws.parameters.data(), ws.values.data());
+  model::evaluate_parameter_values(m, p, ws.parameters.data(), ws.values.data());
 
   for (int b = 0; b < m.nbody(); ++b) {
     const auto& I = m.bodies[b].inertia;
@@ -106,4 +108,4 @@ template struct Workspace<Dual>;
 template void set_parameters<double>(const Model&, Workspace<double>&, const double*);
 template void set_parameters<Dual>(const Model&, Workspace<Dual>&, const Dual*);
 
-}  // namespace kanesens
+}  // namespace kanesens::dynamics

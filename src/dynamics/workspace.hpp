@@ -9,7 +9,30 @@
 #include "math/spatial.hpp"
 #include "model/model.hpp"
 
-namespace kanesens {
+namespace kanesens::dynamics {
+
+// The vocabulary of the layers below: the scalar types and the algebra (math), the model.
+using math::Dual;
+using math::DualT;
+using math::Mat3;
+using math::Mat6;
+using math::MatX;
+using math::PlanarInertia;
+using math::PVec;
+using math::SpatialInertia;
+using math::value_of;
+using math::Vec3;
+using math::Vec6;
+using math::VecX;
+namespace expr = model::expr;
+using model::Constraint;
+using model::Force;
+using model::Joint;
+using model::JointType;
+using model::Model;
+using model::Slot;
+using model::Slot3;
+using model::SpeedAxis;
 
 template <class S>
 struct Workspace {
@@ -81,4 +104,4 @@ struct Workspace {
 template <class S>
 void set_parameters(const Model& model, Workspace<S>& ws, const S* parameters);
 
-}  // namespace kanesens
+}  // namespace kanesens::dynamics

@@ -14,9 +14,9 @@
 
 #include "math/dual.hpp"
 
-namespace kanesens {
+namespace kanesens::math {
 
-namespace cholesky_detail {
+namespace detail {
 // Σ a_k b_k over contiguous entries (Eigen's vectorised dot).
 template <class S>
 S dot(const S* a, const S* b, int n) {
@@ -24,13 +24,13 @@ S dot(const S* a, const S* b, int n) {
   using V = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   return Eigen::Map<const V>(a, n).dot(Eigen::Map<const V>(b, n));
 }
-}  // namespace cholesky_detail
+}  // namespace detail
 
 // Reads the upper triangle of the n×n matrix A (leading dimension lda) and writes U into the
 // upper triangle of U (ldu); U may be A. False if A is not positive definite (a pivot ≤ 0).
 template <class S>
 bool cholesky_factor(const S* A, std::ptrdiff_t lda, S* U, std::ptrdiff_t ldu, int n) {
-  using cholesky_detail::dot;
+  using detail::dot;
   using std::sqrt;
   for (int j = 0; j < n; ++j) {
     S* Uj = U + j * ldu;
@@ -49,7 +49,7 @@ bool cholesky_factor(const S* A, std::ptrdiff_t lda, S* U, std::ptrdiff_t ldu, i
 // x ← (Uᵀ U)⁻¹ x: Uᵀ y = x by dot products down the columns, then U x = y by column axpys.
 template <class S>
 void cholesky_solve(const S* U, std::ptrdiff_t ldu, int n, S* x) {
-  using cholesky_detail::dot;
+  using detail::dot;
   using V = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   for (int i = 0; i < n; ++i) {
     const S* Ui = U + i * ldu;
@@ -63,4 +63,4 @@ void cholesky_solve(const S* U, std::ptrdiff_t ldu, int n, S* x) {
   }
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::math

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <type_traits>
 
-namespace kanesens {
+namespace kanesens::math {
 
 template <class T>
 struct DualT {
@@ -102,20 +102,20 @@ template <class T> DualT<T> min(const DualT<T>& a, const DualT<T>& b) { return a
 template <class T> DualT<T> max(const DualT<T>& a, const DualT<T>& b) { return a.v >= b.v ? a : b; }
 template <class T> bool isfinite(const DualT<T>& a) { using std::isfinite; return isfinite(a.v) && isfinite(a.d); }
 
-}  // namespace kanesens
+}  // namespace kanesens::math
 
 namespace Eigen {
 template <>
-struct NumTraits<kanesens::Dual> : NumTraits<double> {
-  using Real = kanesens::Dual;
-  using NonInteger = kanesens::Dual;
-  using Nested = kanesens::Dual;
-  using Literal = kanesens::Dual;
+struct NumTraits<kanesens::math::Dual> : NumTraits<double> {
+  using Real = kanesens::math::Dual;
+  using NonInteger = kanesens::math::Dual;
+  using Nested = kanesens::math::Dual;
+  using Literal = kanesens::math::Dual;
   enum { IsComplex = 0, IsInteger = 0, IsSigned = 1, RequireInitialization = 0,
          ReadCost = 2, AddCost = 2, MulCost = 3 };
 };
 template <typename BinaryOp>
-struct ScalarBinaryOpTraits<kanesens::Dual, double, BinaryOp> { using ReturnType = kanesens::Dual; };
+struct ScalarBinaryOpTraits<kanesens::math::Dual, double, BinaryOp> { using ReturnType = kanesens::math::Dual; };
 template <typename BinaryOp>
-struct ScalarBinaryOpTraits<double, kanesens::Dual, BinaryOp> { using ReturnType = kanesens::Dual; };
+struct ScalarBinaryOpTraits<double, kanesens::math::Dual, BinaryOp> { using ReturnType = kanesens::math::Dual; };
 }  // namespace Eigen

@@ -1,6 +1,6 @@
 #include "math/min_norm_solver.hpp"
 
-namespace kanesens {
+namespace kanesens::math {
 
 void MinNormSolver::compute(const Eigen::MatrixXd& J) {
   J_ = J;
@@ -33,4 +33,4 @@ void MinNormSolver::remove_normal_component(Eigen::Ref<Eigen::VectorXd> e) {
   e -= x_;
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::math

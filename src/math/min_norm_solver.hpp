@@ -10,7 +10,7 @@
 #pragma once
 #include <Eigen/Dense>
 
-namespace kanesens {
+namespace kanesens::math {
 
 class MinNormSolver {
  public:
@@ -30,4 +30,4 @@ class MinNormSolver {
   bool cholesky_ = true;
 };
 
-}  // namespace kanesens
+}  // namespace kanesens::math

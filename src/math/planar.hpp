@@ -8,7 +8,7 @@
 #pragma once
 #include "math/spatial.hpp"
 
-namespace kanesens {
+namespace kanesens::math {
 
 template <class S> using PVec = Vec3<S>;  // planar motion or force vector
 
@@ -42,4 +42,4 @@ PVec<S> cross_force_planar(const PVec<S>& m, const PVec<S>& f) {
   return {m[1] * f[2] - m[2] * f[1], -m[0] * f[2], m[0] * f[1]};
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::math

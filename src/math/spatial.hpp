@@ -10,7 +10,7 @@
 
 #include "math/dual.hpp"
 
-namespace kanesens {
+namespace kanesens::math {
 
 template <class S> using Vec3 = Eigen::Matrix<S, 3, 1>;
 template <class S> using Mat3 = Eigen::Matrix<S, 3, 3>;
@@ -163,4 +163,4 @@ Vec6<S> wrench_at_origin(const Vec3<S>& r, const Vec3<S>& F) {
   return w;
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::math

@@ -6,7 +6,7 @@
 
 #include "util/did_you_mean.hpp"
 
-namespace kanesens {
+namespace kanesens::model {
 
 namespace {
 
@@ -529,4 +529,4 @@ Model build_model(const SceneSpec& spec, const std::map<std::string, double>& ov
   return Builder(spec, overrides).build();
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::model

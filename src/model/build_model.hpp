@@ -9,9 +9,9 @@
 #include "model/parameters.hpp"
 #include "model/scene/scene_spec.hpp"
 
-namespace kanesens {
+namespace kanesens::model {
 
 // `overrides`: parameter name → value (from --set), replacing the scene's value.
 Model build_model(const SceneSpec& spec, const std::map<std::string, double>& overrides = {});
 
-}  // namespace kanesens
+}  // namespace kanesens::model

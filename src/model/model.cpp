@@ -1,6 +1,6 @@
 #include "model/model.hpp"
 
-namespace kanesens {
+namespace kanesens::model {
 
 const char* joint_type_name(JointType t) {
   switch (t) {
@@ -33,4 +33,4 @@ std::vector<double> Model::nominal_parameters() const {
   return p;
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::model

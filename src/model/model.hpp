@@ -13,7 +13,7 @@
 #include "model/expr/expression.hpp"
 #include "model/scene/scene_spec.hpp"
 
-namespace kanesens {
+namespace kanesens::model {
 
 enum class JointType { revolute, prismatic, cylindrical, universal, planar, spherical, free, weld };
 const char* joint_type_name(JointType t);
@@ -147,4 +147,4 @@ struct Model {
   std::vector<double> nominal_parameters() const;
 };
 
-}  // namespace kanesens
+}  // namespace kanesens::model

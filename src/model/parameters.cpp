@@ -7,7 +7,10 @@
 #include "math/dual.hpp"
 #include "math/spatial.hpp"
 
-namespace kanesens {
+namespace kanesens::model {
+
+using math::Dual;
+using math::unit_or_zero;
 
 template <class S>
 void evaluate_parameter_values(const Model& m, const S* given, S* parameters, S* values) {
@@ -90,4 +93,4 @@ std::string check_parameters(const Model& model, const double* parameters) {
   return p ? p->message : "";
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::model

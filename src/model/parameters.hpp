@@ -7,7 +7,7 @@
 
 #include "model/model.hpp"
 
-namespace kanesens {
+namespace kanesens::model {
 
 // parameters (np): `given` with derived parameters recomputed from those before them
 // (declaration order); values (one per expression slot): every parameter-only slot evaluated.
@@ -29,4 +29,4 @@ struct ParameterProblem {
 };
 std::optional<ParameterProblem> find_parameter_problem(const Model& model, const double* parameters);
 
-}  // namespace kanesens
+}  // namespace kanesens::model

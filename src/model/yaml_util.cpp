@@ -7,7 +7,7 @@
 
 #include "util/did_you_mean.hpp"
 
-namespace kanesens::yaml {
+namespace kanesens::model {
 
 SourceLocation location(const YAML::Node& node, const std::string& file) {
   const YAML::Mark m = node.Mark();
@@ -122,4 +122,4 @@ std::string read_file(const std::string& path) {
   return ss.str();
 }
 
-}  // namespace kanesens::yaml
+}  // namespace kanesens::model

@@ -9,7 +9,7 @@
 #include "model/scene/scene_spec.hpp"
 #include "util/error.hpp"
 
-namespace kanesens::yaml {
+namespace kanesens::model {
 
 SourceLocation location(const YAML::Node& node, const std::string& file);
 
@@ -35,4 +35,4 @@ YAML::Node load(const std::string& text, const std::string& file);
 // Reads a whole file; a missing file is an InputError naming it.
 std::string read_file(const std::string& path);
 
-}  // namespace kanesens::yaml
+}  // namespace kanesens::model

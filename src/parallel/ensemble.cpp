@@ -28,6 +28,10 @@
 #include "util/version.hpp"
 
 namespace kanesens::parallel {
+
+using namespace kanesens::model;
+using namespace kanesens::sim;
+using study::StudySpec;
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -219,7 +223,7 @@ InputRef resolve_at(const Model& model, const std::string& name, const std::stri
 struct Prepared {
   Prepared(const std::string& study_path, const RunOptions& opt, int nranks)
       : set(set_arguments(opt)),
-        st(parse_study_file(study_path, set)),
+        st(study::parse_study_file(study_path, set)),
         model(build_model(st.scene, parameter_overrides(st))),
         base(model),
         design(make_design(st)) {
@@ -348,7 +352,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
   KaneProblem problem(model, sens, st.constraints);
   problem.set_initial_time(st.output_times.front());
   std::vector<double> outputs;
-  solve::Integrator integrator(st.solver);
+  sim::Integrator integrator(st.solver);
   Trajectory traj;
   resize_trajectory(traj, problem, st.output_times.size(), flags);
   std::vector<double> values(design.dimension()), y0(static_cast<std::size_t>(model.nstate()));

@@ -14,7 +14,7 @@ namespace kanesens::parallel {
 std::string version_report() {
   std::ostringstream out;
   out << "kanesens " << version_short() << "\n";
-  out << "SUNDIALS " << solve::sundials_version() << " (CVODES)\n";
+  out << "SUNDIALS " << sim::sundials_version() << " (CVODES)\n";
   out << "HDF5 " << io::hdf5_version() << "\n";
 #if defined(OMPI_MAJOR_VERSION)
   out << "MPI " << MPI_VERSION << "." << MPI_SUBVERSION << " (Open MPI " << OMPI_MAJOR_VERSION << "."

@@ -8,7 +8,10 @@
 #include "model/build_model.hpp"
 #include "util/error.hpp"
 
-namespace kanesens {
+namespace kanesens::sim {
+
+using namespace kanesens::dynamics;
+using namespace kanesens::model;
 
 KaneProblem::KaneProblem(const Model& model, std::vector<InputRef> sensitivities, ConstraintOptions constraints)
     : options_(constraints),
@@ -534,4 +537,4 @@ double KaneProblem::energy(double t, const double* y) {
   return kinetic_energy(model_, ws_) + potential_energy(model_, ws_, q);
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::sim

@@ -20,9 +20,15 @@
 #include "math/min_norm_solver.hpp"
 #include "sim/solve/ode_problem.hpp"
 
-namespace kanesens {
+namespace kanesens::sim {
 
-class KaneProblem final : public solve::OdeProblem {
+using dynamics::EmbeddingScratch;
+using dynamics::EmbeddingSets;
+using dynamics::Workspace;
+using math::Dual;
+using math::MinNormSolver;
+
+class KaneProblem final : public OdeProblem {
  public:
   KaneProblem(const Model& model, std::vector<InputRef> sensitivities, ConstraintOptions constraints = {});
 
@@ -129,4 +135,4 @@ class KaneProblem final : public solve::OdeProblem {
   std::vector<Dual> y_dual_, ydot_dual_;
 };
 
-}  // namespace kanesens
+}  // namespace kanesens::sim

@@ -6,10 +6,11 @@
 #include "study/study_spec.hpp"
 #include "util/parse_number.hpp"
 
-namespace kanesens {
+namespace kanesens::study {
 namespace {
 
-using namespace kanesens::yaml;
+using namespace kanesens::model;
+using sim::ConstraintOptions;
 
 double read_number(const YAML::Node& n, const std::string& file, const std::string& key) {
   const ExprText e = read_expr(n, file, key);
@@ -69,11 +70,11 @@ void parse_time(const YAML::Node& n, const std::string& file, StudySpec& st) {
     st.output_times.push_back(k == outputs - 1 ? end : start + (end - start) * static_cast<double>(k) / static_cast<double>(outputs - 1));
 }
 
-void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOptions& o, ConstraintOptions& co) {
+void parse_solver(const YAML::Node& n, const std::string& file, sim::SolverOptions& o, ConstraintOptions& co) {
   const std::string key = "solver";
   check_keys(n, file, key, {"method", "iteration", "rtol", "atol", "max_steps", "max_order", "initial_step",
                             "max_step", "jacobian", "sensitivity", "constraints"});
-  using namespace kanesens::solve;
+  using namespace kanesens::sim;
   if (n["method"]) o.method = read_choice<Method>(n["method"], file, key + ".method", {{"bdf", Method::bdf}, {"adams", Method::adams}, {"dop853", Method::dop853}});
   if (n["iteration"])
     o.iteration = read_choice<Iteration>(n["iteration"], file, key + ".iteration",
@@ -130,7 +131,7 @@ void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOpt
     if (c["project_sensitivities"])
       co.project_sensitivities = read_bool(c["project_sensitivities"], file, k2 + ".project_sensitivities");
   }
-  if (co.stabilization == ConstraintOptions::Stabilization::projection && o.method == solve::Method::adams &&
+  if (co.stabilization == ConstraintOptions::Stabilization::projection && o.method == sim::Method::adams &&
       n["constraints"])
     fail(n, file, key, "constraint projection needs method: bdf or dop853 (CVODES projects only with BDF); use stabilization: baumgarte with adams");
   try {
@@ -230,4 +231,4 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
   return st;
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::study

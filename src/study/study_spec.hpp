@@ -12,15 +12,15 @@
 #include "sim/constraint_options.hpp"
 #include "sim/solve/solver_options.hpp"
 
-namespace kanesens {
+namespace kanesens::study {
 
 struct StudySpec {
   std::string file;  // path of the study file
   std::string text;  // its exact text (after --set edits are applied, the original is kept here)
-  SceneSpec scene;
+  model::SceneSpec scene;
   std::vector<double> output_times;  // strictly increasing; output 0 is the initial state
-  solve::SolverOptions solver;
-  ConstraintOptions constraints;
+  sim::SolverOptions solver;
+  sim::ConstraintOptions constraints;
   std::vector<std::string> sensitivities;  // parameter or initial-condition names
   std::vector<SourceLocation> sensitivity_where;  // where each was written
   SourceLocation record_where;
@@ -39,4 +39,4 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
 // The names --set may use for study settings: the first component of a dotted name.
 bool is_study_setting(const std::string& name);
 
-}  // namespace kanesens
+}  // namespace kanesens::study

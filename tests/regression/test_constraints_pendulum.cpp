@@ -24,8 +24,9 @@
 
 #include "../support/constraint_test_support.hpp"
 #include "model/scene/parse_scene.hpp"
+#include "../support/layers.hpp"
 
-namespace ks = kanesens;
+namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
 namespace {

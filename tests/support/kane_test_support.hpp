@@ -12,6 +12,7 @@
 #include "model/build_model.hpp"
 #include "dynamics/workspace.hpp"
 #include "model/scene/parse_scene.hpp"
+#include "layers.hpp"
 
 namespace kanesens::testing {
 

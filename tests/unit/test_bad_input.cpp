@@ -13,8 +13,9 @@
 #include "model/build_model.hpp"
 #include "parallel/ensemble.hpp"
 #include "model/scene/parse_scene.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 

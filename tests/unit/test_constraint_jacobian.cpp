@@ -11,8 +11,9 @@
 #include "dynamics/equations.hpp"
 #include "kane_test_support.hpp"
 #include "math/min_norm_solver.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 using kanesens::testing::qdot_of;
 
 namespace {

@@ -17,7 +17,7 @@
 #include "sim/solve/integrator.hpp"
 #include "spring_problem.hpp"
 
-namespace ks = kanesens::solve;
+namespace ks = kanesens::sim;
 
 namespace {
 

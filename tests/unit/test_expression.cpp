@@ -4,9 +4,10 @@
 
 #include "math/dual.hpp"
 #include "model/expr/expression.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
-using namespace kanesens::expr;
+using namespace kanesens::testing;
+using namespace kanesens::model::expr;
 
 namespace {
 NameTable table() {

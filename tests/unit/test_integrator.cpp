@@ -16,7 +16,7 @@
 
 #include "sim/solve/integrator.hpp"
 
-namespace ks = kanesens::solve;
+namespace ks = kanesens::sim;
 
 namespace {
 

@@ -14,8 +14,9 @@
 
 #include "../support/kane_test_support.hpp"
 #include "dynamics/equations.hpp"
+#include "../support/layers.hpp"
 
-namespace ks = kanesens;
+namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;

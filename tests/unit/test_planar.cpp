@@ -10,8 +10,9 @@
 #include "model/build_model.hpp"
 #include "model/scene/parse_scene.hpp"
 #include "test_scenes.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 

@@ -16,7 +16,7 @@
 #include "sim/solve/rk4.hpp"
 #include "spring_problem.hpp"
 
-namespace ks = kanesens::solve;
+namespace ks = kanesens::sim;
 
 namespace {
 

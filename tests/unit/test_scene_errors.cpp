@@ -3,8 +3,9 @@
 
 #include "model/build_model.hpp"
 #include "model/scene/parse_scene.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 const char* kGood = R"(kanesens: 1

@@ -14,7 +14,7 @@
 
 #include "util/did_you_mean.hpp"
 
-namespace kanesens::expr {
+namespace kanesens::model::expr {
 namespace {
 
 struct FunctionInfo {
@@ -290,4 +290,4 @@ Expression compile(const std::string& text, const NameTable& names, const Source
   return e;
 }
 
-}  // namespace kanesens::expr
+}  // namespace kanesens::model::expr

@@ -10,7 +10,7 @@
 
 #include "util/error.hpp"
 
-namespace kanesens::expr {
+namespace kanesens::model::expr {
 
 // What a name in an expression refers to. Indices are into the arrays passed to evaluate().
 enum class VarKind : unsigned char { parameter, time, coordinate, speed };
@@ -138,4 +138,4 @@ S Expression::evaluate(const Inputs<S>& in) const {
   return st[0];
 }
 
-}  // namespace kanesens::expr
+}  // namespace kanesens::model::expr

@@ -2,10 +2,8 @@
 
 #include "model/yaml_util.hpp"
 
-namespace kanesens {
+namespace kanesens::model {
 namespace {
-
-using namespace kanesens::yaml;
 
 std::string idx(const std::string& key, std::size_t i) { return key + "[" + std::to_string(i) + "]"; }
 
@@ -262,4 +260,4 @@ SceneSpec parse_scene_text(const std::string& text, const std::string& file) {
 
 SceneSpec parse_scene_file(const std::string& path) { return parse_scene_text(read_file(path), path); }
 
-}  // namespace kanesens
+}  // namespace kanesens::model

@@ -7,7 +7,7 @@
 
 #include "model/scene/scene_spec.hpp"
 
-namespace kanesens {
+namespace kanesens::model {
 
 // Reads a scene file (a document with `kanesens: 1` and `scene:`).
 SceneSpec parse_scene_file(const std::string& path);
@@ -16,4 +16,4 @@ SceneSpec parse_scene_node(const YAML::Node& scene, const std::string& file, con
 // Parses a whole scene document given as text.
 SceneSpec parse_scene_text(const std::string& text, const std::string& file);
 
-}  // namespace kanesens
+}  // namespace kanesens::model

@@ -8,7 +8,7 @@
 
 #include "util/error.hpp"
 
-namespace kanesens {
+namespace kanesens::model {
 
 // A number or expression as written, with where it was written.
 struct ExprText {
@@ -99,4 +99,4 @@ struct SceneSpec {
   std::vector<ConstraintSpec> constraints;
 };
 
-}  // namespace kanesens
+}  // namespace kanesens::model

@@ -13,7 +13,7 @@
 #include "sim/solve/dop853_tableau.hpp"
 #include "sim/solve/output_times.hpp"
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 namespace {
 
@@ -276,4 +276,4 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
   return r;
 }
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

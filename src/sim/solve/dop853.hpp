@@ -36,7 +36,7 @@
 #include "sim/solve/ode_problem.hpp"
 #include "sim/solve/solver_options.hpp"
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 // Throws std::invalid_argument for bad output times, or sensitivities without an exact
 // sensitivity_rhs. Stats: steps, rhs_evals, sens_rhs_evals, error_test_fails, projections,
@@ -44,4 +44,4 @@ namespace kanesens::solve {
 IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& options,
                                    std::span<const double> output_times, const RecordFn& record);
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

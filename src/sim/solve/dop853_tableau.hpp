@@ -6,7 +6,7 @@
 // first stage).
 #pragma once
 
-namespace kanesens::solve::dop853 {
+namespace kanesens::sim::dop853 {
 
 inline constexpr int stages = 12;
 
@@ -77,4 +77,4 @@ inline constexpr double e5[stages + 1] = {
     0.0,
 };
 
-}  // namespace kanesens::solve::dop853
+}  // namespace kanesens::sim::dop853

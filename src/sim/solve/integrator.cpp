@@ -22,7 +22,7 @@
 
 #include "sim/solve/sundials_handles.hpp"
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 namespace {
 
@@ -530,4 +530,4 @@ std::string sundials_version() {
   return SUNDIALS_VERSION;
 }
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

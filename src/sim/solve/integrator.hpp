@@ -35,7 +35,7 @@
 #include "sim/solve/ode_problem.hpp"
 #include "sim/solve/solver_options.hpp"
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 // Counters of one integration (CVodeGet*; reset by every integrate()).
 struct SolverStats {
@@ -98,4 +98,4 @@ IntegrationResult integrate(OdeProblem& problem, const SolverOptions& options,
 // "6.4.1": the SUNDIALS this build links.
 std::string sundials_version();
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

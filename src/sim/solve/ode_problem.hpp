@@ -18,7 +18,7 @@
 #pragma once
 #include <vector>
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 class OdeProblem {
  public:
@@ -79,4 +79,4 @@ class OdeProblem {
   }
 };
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

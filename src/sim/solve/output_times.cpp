@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 namespace {
 std::string format(double t) {
@@ -25,4 +25,4 @@ void check_output_times(std::span<const double> times, const std::string& who) {
   }
 }
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

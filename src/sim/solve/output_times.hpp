@@ -5,9 +5,9 @@
 #include <span>
 #include <string>
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 // Throws std::invalid_argument "<who>: output_times[k] = ... <= output_times[k-1] = ..." etc.
 void check_output_times(std::span<const double> times, const std::string& who);
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

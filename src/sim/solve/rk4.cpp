@@ -12,7 +12,7 @@
 
 #include "sim/solve/output_times.hpp"
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 namespace {
 bool all_finite(const std::vector<double>& v) {
@@ -103,4 +103,4 @@ IntegrationResult integrate_rk4(OdeProblem& problem, const Rk4Options& options,
   return r;
 }
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

@@ -14,7 +14,7 @@
 //
 // Failure: a non-finite state, RHS or sensitivity stops the integration with status
 // rk4_nonfinite; an exception thrown by rhs/sensitivity_rhs gives rk4_callback_failed. Outputs
-// past the failure are not recorded. record() is called exactly as by solve::Integrator
+// past the failure are not recorded. record() is called exactly as by Integrator
 // (output 0 = initial state, no integration).
 #pragma once
 #include <span>
@@ -22,7 +22,7 @@
 #include "sim/solve/integrator.hpp"
 #include "sim/solve/ode_problem.hpp"
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 constexpr int rk4_nonfinite = -1001;        // a state or derivative became NaN/Inf
 constexpr int rk4_callback_failed = -1002;  // rhs or sensitivity_rhs threw
@@ -38,4 +38,4 @@ struct Rk4Options {
 IntegrationResult integrate_rk4(OdeProblem& problem, const Rk4Options& options,
                                 std::span<const double> output_times, const RecordFn& record);
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

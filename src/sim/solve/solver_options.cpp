@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 namespace {
 template <class T>
@@ -85,4 +85,4 @@ std::string_view to_string(SensitivityRhs s) {
   return s == SensitivityRhs::exact ? "exact" : "dq";
 }
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

@@ -5,7 +5,7 @@
 #include <string_view>
 #include <vector>
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 // CV_BDF (stiff) | CV_ADAMS (non-stiff) | explicit Runge–Kutta 8(5,3) (non-stiff, tight
 // tolerances; solve/dop853.hpp: no Jacobian, iteration or max_order)
@@ -53,4 +53,4 @@ std::string_view to_string(JacobianKind j);
 std::string_view to_string(SensitivityMethod s);
 std::string_view to_string(SensitivityRhs s);
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

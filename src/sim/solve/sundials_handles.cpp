@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 namespace {
 // CVodeGetReturnFlagName and CVodeGetLinReturnFlagName return a malloc'd string the caller
@@ -84,4 +84,4 @@ NVectorArray::NVectorArray(int count, N_Vector like) {
   count_ = count;
 }
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim

@@ -17,7 +17,7 @@
 #include <type_traits>
 #include <utility>
 
-namespace kanesens::solve {
+namespace kanesens::sim {
 
 static_assert(std::is_same_v<sunrealtype, double>, "kanesens needs SUNDIALS built with double");
 
@@ -106,4 +106,4 @@ class NVectorArray {
   int count_ = 0;
 };
 
-}  // namespace kanesens::solve
+}  // namespace kanesens::sim
