@@ -114,7 +114,7 @@ void general_velocity(const Model& m, Workspace<S>& ws, const Constraint& c, int
 }  // namespace
 
 template <class S>
-void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
+void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u, const DynamicsOptions& options) {
   using std::sqrt;
   if (m.evaluate_planar()) {
     // The planar path keeps (ω_z, v_x, v_y); constraints read the 6-D partial velocities and
@@ -205,8 +205,8 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
       }
     }
   }
-  if (ws.baumgarte_alpha != 0 || ws.baumgarte_beta != 0) {
-    const double a2 = 2 * ws.baumgarte_alpha, b2 = ws.baumgarte_beta * ws.baumgarte_beta;
+  if (options.baumgarte_alpha != 0 || options.baumgarte_beta != 0) {
+    const double a2 = 2 * options.baumgarte_alpha, b2 = options.baumgarte_beta * options.baumgarte_beta;
     for (int r = 0; r < m.nconstraint_rows; ++r)
       ws.constraint_bias[r] -= a2 * ws.velocity_residual[r] + b2 * ws.position_residual[r];
   }
@@ -317,7 +317,8 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
 }
 
 #define KANESENS_INSTANTIATE(S)                                                          \
-  template void compute_constraints<S>(const Model&, Workspace<S>&, const S*, const S*); \
+  template void compute_constraints<S>(const Model&, Workspace<S>&, const S*, const S*,   \
+                                       const DynamicsOptions&);                          \
   template bool solve_constrained_accelerations<S>(const Model&, Workspace<S>&);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)

@@ -115,7 +115,7 @@ bool reconstruct_speeds(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& s
 
 template <class S>
 bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, const EmbeddingSets& sets,
-                  const S& t, const S* y, S* ydot) {
+                  const S& t, const S* y, S* ydot, const DynamicsOptions& options) {
   const S* q = y;
   const S* ui = y + m.nq;
   if (!reconstruct_speeds(m, ws, sc, sets, t, q, ui, sc.u.data())) return false;
@@ -127,7 +127,7 @@ bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, con
   compute_mass_matrix(m, ws);
   compute_forcing(m, ws, q, u);
   compute_kinematic_derivatives(m, ws, q, u);
-  compute_constraints(m, ws, q, u);
+  compute_constraints(m, ws, q, u, options);
   const int nd = static_cast<int>(sets.dependent.size());
   const int ni = static_cast<int>(sets.independent.size());
   // d = [0; A_d⁻¹ b]
@@ -174,7 +174,7 @@ bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, con
   template bool reconstruct_speeds<S>(const Model&, Workspace<S>&, EmbeddingScratch<S>&, const EmbeddingSets&, \
                                       const S&, const S*, const S*, S*);                                       \
   template bool embedded_rhs<S>(const Model&, Workspace<S>&, EmbeddingScratch<S>&, const EmbeddingSets&,       \
-                                const S&, const S*, S*);
+                                const S&, const S*, S*, const DynamicsOptions&);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
 #undef KANESENS_INSTANTIATE

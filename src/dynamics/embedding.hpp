@@ -10,6 +10,7 @@
 #pragma once
 #include <vector>
 
+#include "dynamics/options.hpp"
 #include "dynamics/workspace.hpp"
 
 namespace kanesens::dynamics {
@@ -46,6 +47,6 @@ bool reconstruct_speeds(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& s
 // ydot = [q̇; u̇_i] for y = [q; u_i]. False if M or A_d is singular.
 template <class S>
 bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, const EmbeddingSets& sets,
-                  const S& t, const S* y, S* ydot);
+                  const S& t, const S* y, S* ydot, const DynamicsOptions& options = {});
 
 }  // namespace kanesens::dynamics

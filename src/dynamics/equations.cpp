@@ -79,14 +79,14 @@ void evaluate_mass_matrix_and_forcing(const Model& m, Workspace<S>& ws, const S&
 }
 
 template <class S>
-bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot) {
+bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot, const DynamicsOptions& options) {
   const S* q = y;
   const S* u = y + m.nq;
   evaluate_mass_matrix_and_forcing(m, ws, t, q, u);
   compute_kinematic_derivatives(m, ws, q, u);
   bool ok = solve_accelerations(m, ws);
   if (ok && m.nconstraint_rows > 0) {
-    compute_constraints(m, ws, q, u);
+    compute_constraints(m, ws, q, u, options);
     solve_constrained_accelerations(m, ws);
   }
   for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
@@ -133,7 +133,8 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
   template bool solve_accelerations<S>(const Model&, Workspace<S>&);                            \
   template void evaluate_mass_matrix_and_forcing<S>(const Model&, Workspace<S>&, const S&,      \
                                                     const S*, const S*);                        \
-  template bool evaluate_rhs<S>(const Model&, Workspace<S>&, const S&, const S*, S*);           \
+  template bool evaluate_rhs<S>(const Model&, Workspace<S>&, const S&, const S*, S*,             \
+                                const DynamicsOptions&);                                        \
   template S kinetic_energy<S>(const Model&, const Workspace<S>&);                              \
   template S potential_energy<S>(const Model&, const Workspace<S>&, const S*);
 KANESENS_INSTANTIATE(double)

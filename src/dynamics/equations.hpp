@@ -17,6 +17,7 @@
 // spatial inertia of the bodies both speeds move, and f_k = s_k · (Σ of the bodies' applied
 // minus inertial wrenches), which is SymPy KanesMethod's `mass_matrix` / `forcing`.
 #pragma once
+#include "dynamics/options.hpp"
 #include "dynamics/workspace.hpp"
 
 namespace kanesens::dynamics {
@@ -37,10 +38,12 @@ bool solve_accelerations(const Model& m, Workspace<S>& ws);
 template <class S>
 void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q, const S* u);
 
-// Constraint rows at (q, u): A, a0-velocity residual, position residual and bias −(Ȧu + ȧ0)
-// (dynamics/constraints.cpp). Needs position, velocity and q̇ (compute_kinematic_derivatives).
+// Constraint rows at (q, u): A, a0-velocity residual, position residual and bias −(Ȧu + ȧ0),
+// minus the Baumgarte terms of `options` (dynamics/constraints.cpp). Needs position, velocity
+// and q̇ (compute_kinematic_derivatives).
 template <class S>
-void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u);
+void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u,
+                         const DynamicsOptions& options = {});
 // After solve_accelerations (ws.udot = M⁻¹ f): the multipliers λ and u̇ = M⁻¹(f + Aᵀλ).
 template <class S>
 bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws);
@@ -48,7 +51,8 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws);
 // The whole right-hand side: y = [q; u] (nq + nu) → ydot = [q̇; u̇]. Returns false if M is
 // singular. Parameters must have been set.
 template <class S>
-bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot);
+bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot,
+                  const DynamicsOptions& options = {});
 // Position, velocity, M and f at (t, q, u), without the solve.
 template <class S>
 void evaluate_mass_matrix_and_forcing(const Model& m, Workspace<S>& ws, const S& t, const S* q, const S* u);

@@ -84,8 +84,6 @@ struct Workspace {
   VecX<S> scratch_m, scratch_nu;   // m, nu
   std::vector<int> schur_pivots;   // m
   int constraint_rank = 0;         // rank of A M⁻¹ Aᵀ at the last solve
-  // Baumgarte stabilisation: bias −= 2α (A u + a0) + β² g (set by the caller; 0 = off).
-  double baumgarte_alpha = 0, baumgarte_beta = 0;
   // General constraints (dynamics/constraints.cpp): q and the parameters as first- and second-order
   // duals, nq and np entries (empty when the model has no general constraint).
   std::vector<DualT<S>> general_q1, general_p1;

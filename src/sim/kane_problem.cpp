@@ -38,16 +38,8 @@ KaneProblem::KaneProblem(const Model& model, std::vector<InputRef> sensitivities
   projection_.G.resize(static_cast<Eigen::Index>(holonomic_rows_.size()), model.nq);
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
   if (options_.stabilization == ConstraintOptions::Stabilization::baumgarte) {
-    // The same Baumgarte terms in every workspace, so Jacobian and sensitivities differentiate
-    // the equations that are integrated.
-    auto set = [&](auto& ws) {
-      ws.baumgarte_alpha = options_.alpha;
-      ws.baumgarte_beta = options_.beta;
-    };
-    set(ws_);
-    set(ws_jacobian_);
-    for (auto& w : ws_sens_)
-      if (w) set(*w);
+    dynamics_.baumgarte_alpha = options_.alpha;
+    dynamics_.baumgarte_beta = options_.beta;
   }
   set_sample(inputs_);
 }
@@ -342,7 +334,7 @@ int KaneProblem::project(double t, const double* y, double* corr, double, double
 void KaneProblem::multipliers(double t, const double* y, double* lambda) {
   std::vector<double> ydot(static_cast<std::size_t>(model_.nstate()));
   sync_dq_parameters();
-  evaluate_rhs(model_, ws_, t, y, ydot.data());
+  evaluate_rhs(model_, ws_, t, y, ydot.data(), dynamics_);
   for (int r = 0; r < model_.nconstraint_rows; ++r) lambda[r] = ws_.multipliers[r];
 }
 
@@ -351,7 +343,7 @@ void KaneProblem::multiplier_sensitivity(double t, const double* y, int i, const
   const int n = model_.nstate();
   std::vector<Dual> yd(static_cast<std::size_t>(n)), ydot(static_cast<std::size_t>(n));
   for (int r = 0; r < n; ++r) yd[static_cast<std::size_t>(r)] = Dual(y[r], s[r]);
-  evaluate_rhs(model_, ws, Dual(t), yd.data(), ydot.data());
+  evaluate_rhs(model_, ws, Dual(t), yd.data(), ydot.data(), dynamics_);
   for (int r = 0; r < model_.nconstraint_rows; ++r) dlambda[r] = ws.multipliers[r].d;
 }
 
@@ -360,7 +352,7 @@ void KaneProblem::sensitivity_constraint_residuals(double t, const double* y, in
   const int n = model_.nstate();
   Workspace<Dual>& ws = ws_sens_[i] ? *ws_sens_[i] : ws_jacobian_;
   for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], s[r]);
-  evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data());
+  evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data(), dynamics_);
   position = 0;
   velocity = 0;
   for (int r : holonomic_rows_) position = std::max(position, std::abs(ws.position_residual[r].d));
@@ -374,7 +366,7 @@ void KaneProblem::project_sensitivity(double t, const double* y, int i, double* 
   Workspace<Dual>& ws = ws_sens_[i] ? *ws_sens_[i] : ws_jacobian_;
   auto evaluate = [&] {
     for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], s[r]);
-    evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data());
+    evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data(), dynamics_);
   };
   evaluate();
   if (mh > 0) {
@@ -399,7 +391,7 @@ void KaneProblem::project_sensitivity(double t, const double* y, int i, double* 
 void KaneProblem::constraint_residuals(double t, const double* y, double& position, double& velocity) {
   std::vector<double> ydot(static_cast<std::size_t>(model_.nstate()));
   sync_dq_parameters();
-  evaluate_rhs(model_, ws_, t, y, ydot.data());
+  evaluate_rhs(model_, ws_, t, y, ydot.data(), dynamics_);
   position = 0;
   velocity = 0;
   for (int r : holonomic_rows_) position = std::max(position, std::abs(ws_.position_residual[r]));
@@ -474,7 +466,7 @@ void KaneProblem::sync_dq_parameters() {
 void KaneProblem::rhs(double t, const double* y, double* ydot) {
   sync_dq_parameters();
   if (embedded_) {
-    if (!embedded_rhs(model_, ws_, *sc_, sets_, t, y, ydot))
+    if (!embedded_rhs(model_, ws_, *sc_, sets_, t, y, ydot, dynamics_))
       throw std::runtime_error("embedding: singular mass matrix or dependent-speed matrix at t = " + std::to_string(t));
     if (sc_->conditioning > 1e10)
       throw std::runtime_error("embedding: the independent speeds chosen at t0 no longer parameterise the motion at t = " +
@@ -482,7 +474,7 @@ void KaneProblem::rhs(double t, const double* y, double* ydot) {
                                std::to_string(sc_->conditioning) + "); use formulation: multipliers");
     return;
   }
-  if (!evaluate_rhs(model_, ws_, t, y, ydot))
+  if (!evaluate_rhs(model_, ws_, t, y, ydot, dynamics_))
     throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
 }
 
@@ -490,8 +482,8 @@ void KaneProblem::jacobian(double t, const double* y, const double*, double* J) 
   const int n = size();
   for (int c = 0; c < n; ++c) {
     for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], r == c ? 1.0 : 0.0);
-    const bool ok = embedded_ ? embedded_rhs(model_, ws_jacobian_, *sc_dual_, sets_, Dual(t), y_dual_.data(), ydot_dual_.data())
-                              : evaluate_rhs(model_, ws_jacobian_, Dual(t), y_dual_.data(), ydot_dual_.data());
+    const bool ok = embedded_ ? embedded_rhs(model_, ws_jacobian_, *sc_dual_, sets_, Dual(t), y_dual_.data(), ydot_dual_.data(), dynamics_)
+                              : evaluate_rhs(model_, ws_jacobian_, Dual(t), y_dual_.data(), ydot_dual_.data(), dynamics_);
     if (!ok)
       throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
     for (int r = 0; r < n; ++r) J[r + c * n] = ydot_dual_[r].d;
@@ -503,8 +495,8 @@ void KaneProblem::sensitivity_rhs(double t, const double* y, const double*, int 
   const int n = size();
   Workspace<Dual>& ws = dual_workspace(i);
   for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], s[r]);
-  const bool ok = embedded_ ? embedded_rhs(model_, ws, *sc_dual_, sets_, Dual(t), y_dual_.data(), ydot_dual_.data())
-                            : evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data());
+  const bool ok = embedded_ ? embedded_rhs(model_, ws, *sc_dual_, sets_, Dual(t), y_dual_.data(), ydot_dual_.data(), dynamics_)
+                            : evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data(), dynamics_);
   if (!ok)
     throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
   for (int r = 0; r < n; ++r) sdot[r] = ydot_dual_[r].d;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "math/dual.hpp"
+#include "dynamics/options.hpp"
 #include "dynamics/workspace.hpp"
 #include "sim/constraint_options.hpp"
 #include "dynamics/embedding.hpp"
@@ -115,6 +116,7 @@ class KaneProblem final : public OdeProblem {
   Workspace<Dual>& dual_workspace(int i) { return ws_sens_[i] ? *ws_sens_[i] : ws_jacobian_; }
 
   ConstraintOptions options_;
+  dynamics::DynamicsOptions dynamics_;  // Baumgarte gains when stabilization is baumgarte
   bool embedded_ = false;
   EmbeddingSets sets_;
   std::unique_ptr<EmbeddingScratch<double>> sc_;
