@@ -10,9 +10,6 @@ namespace kanesens::model {
 
 namespace {
 
-const std::vector<std::string> kJointTypes = {"revolute", "prismatic", "cylindrical", "universal",
-                                              "planar",   "spherical", "free",        "weld"};
-
 bool is_identifier(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
   for (char c : s)
@@ -161,13 +158,7 @@ class Builder {
       if (!seen.insert(js.name).second) fail(js.where, js.key + ".name", "duplicate joint name '" + js.name + "'");
       Joint j;
       j.name = js.name;
-      int t = -1;
-      for (std::size_t i = 0; i < kJointTypes.size(); ++i)
-        if (kJointTypes[i] == js.type) t = static_cast<int>(i);
-      if (t < 0)
-        fail(js.where, js.key + ".type", "unknown joint type '" + js.type + "'" + did_you_mean(js.type, kJointTypes) +
-                                             "; types are: " + join_names(kJointTypes));
-      j.type = static_cast<JointType>(t);
+      j.type = js.type;
       j.parent = body_ref(js.parent, js.where, js.key + ".parent");
       j.child = body_ref(js.child, js.where, js.key + ".child");
       if (j.child == -1) fail(js.where, js.key + ".child", "ground cannot be a joint's child; swap parent and child");
@@ -364,8 +355,8 @@ class Builder {
       if (!seen.insert(fs.name).second) fail(fs.where, fs.key + ".name", "duplicate force name '" + fs.name + "'");
       Force f;
       f.name = fs.name;
-      if (fs.type == "spring_damper") {
-        f.kind = Force::Kind::spring_damper;
+      f.kind = fs.kind;
+      if (fs.kind == ForceKind::spring_damper) {
         f.body_a = body_ref(fs.body_a, fs.where, fs.key + ".body_a");
         f.body_b = body_ref(fs.body_b, fs.where, fs.key + ".body_b");
         if (f.body_a == f.body_b) fail(fs.where, fs.key + ".body_b", "a spring_damper needs two different bodies");
@@ -375,12 +366,11 @@ class Builder {
         f.c = add(fs.c, true);
         f.rest = add(fs.rest, false);
       } else {
-        f.kind = fs.type == "force" ? Force::Kind::force : Force::Kind::torque;
         f.body = body_ref(fs.body, fs.where, fs.key + ".body");
         if (f.body < 0) fail(fs.where, fs.key + ".body", "forces on ground do nothing; name a body");
         f.point = add3(fs.point, false);
         f.vector = add3(fs.vector, true);
-        f.body_frame = fs.frame == "body";
+        f.body_frame = fs.body_frame;
       }
       m_.forces.push_back(f);
     }
@@ -427,11 +417,11 @@ class Builder {
     for (std::size_t ci = 0; ci < spec_.constraints.size(); ++ci) {
       const ConstraintSpec& cs = spec_.constraints[ci];
       Constraint c;
-      c.name = cs.name.empty() ? cs.type + std::to_string(ci) : cs.name;
+      c.name = cs.name.empty() ? constraint_kind_name(cs.kind) + std::to_string(ci) : cs.name;
+      c.kind = cs.kind;
       if (!seen.insert(c.name).second) fail(cs.where, cs.key + ".name", "duplicate constraint name '" + c.name + "'");
       std::vector<std::string> rows;
-      if (cs.type == "coincident" || cs.type == "distance") {
-        c.kind = cs.type == "coincident" ? Constraint::Kind::coincident : Constraint::Kind::distance;
+      if (cs.kind == ConstraintKind::coincident || cs.kind == ConstraintKind::distance) {
         c.body_a = body_ref(cs.body_a, cs.where, cs.key + ".body_a");
         c.body_b = body_ref(cs.body_b, cs.where, cs.key + ".body_b");
         if (c.body_a == c.body_b) fail(cs.where, cs.key + ".body_b", "a constraint needs two different bodies");
@@ -441,16 +431,15 @@ class Builder {
           c.length = add(cs.length, false);
           rows = {c.name};
         } else {
-          std::vector<std::string> comps = cs.components;
-          if (comps.empty()) comps = planar ? std::vector<std::string>{"x", "y"} : std::vector<std::string>{"x", "y", "z"};
+          std::vector<int> comps = cs.components;
+          if (comps.empty()) comps = planar ? std::vector<int>{0, 1} : std::vector<int>{0, 1, 2};
           for (std::size_t i = 0; i < comps.size(); ++i) {
-            c.components[i] = comps[i][0] - 'x';
-            rows.push_back(c.name + "." + comps[i]);
+            c.components[i] = comps[i];
+            rows.push_back(c.name + "." + static_cast<char>('x' + comps[i]));
           }
         }
         c.holonomic.assign(rows.size(), 1);
-      } else if (cs.type == "coupler") {
-        c.kind = Constraint::Kind::coupler;
+      } else if (cs.kind == ConstraintKind::coupler) {
         const int ja = joint_ref(cs.joint_a, cs.where, cs.key + ".joint_a");
         const int jb = joint_ref(cs.joint_b, cs.where, cs.key + ".joint_b");
         for (int j : {ja, jb})
@@ -464,8 +453,7 @@ class Builder {
         c.offset = add(cs.offset, false);
         rows = {c.name};
         c.holonomic = {1};
-      } else if (cs.type == "general") {
-        c.kind = Constraint::Kind::general;
+      } else if (cs.kind == ConstraintKind::general) {
         if (cs.position) {
           c.has_position = true;
           c.position = expr::compile(cs.position->text, position_names_, cs.position->where, cs.position->key);
@@ -491,7 +479,6 @@ class Builder {
         }
         rows = {c.name};
       } else {  // rolling
-        c.kind = Constraint::Kind::rolling;
         c.body = body_ref(cs.body, cs.where, cs.key + ".body");
         if (c.body < 0) fail(cs.where, cs.key + ".body", "the rolling body cannot be ground");
         c.radius = add(cs.radius, false);

@@ -2,20 +2,6 @@
 
 namespace kanesens::model {
 
-const char* joint_type_name(JointType t) {
-  switch (t) {
-    case JointType::revolute: return "revolute";
-    case JointType::prismatic: return "prismatic";
-    case JointType::cylindrical: return "cylindrical";
-    case JointType::universal: return "universal";
-    case JointType::planar: return "planar";
-    case JointType::spherical: return "spherical";
-    case JointType::free: return "free";
-    case JointType::weld: return "weld";
-  }
-  return "?";
-}
-
 int Model::find_parameter(const std::string& n) const {
   for (int i = 0; i < nparam(); ++i)
     if (parameters[i].name == n) return i;

@@ -15,8 +15,6 @@
 
 namespace kanesens::model {
 
-enum class JointType { revolute, prismatic, cylindrical, universal, planar, spherical, free, weld };
-const char* joint_type_name(JointType t);
 
 using Slot = int;
 using Slot3 = std::array<Slot, 3>;
@@ -58,7 +56,7 @@ struct Body {
 };
 
 struct Force {
-  enum class Kind { spring_damper, force, torque };
+  using Kind = ForceKind;
   std::string name;
   Kind kind = Kind::force;
   int body_a = -1, body_b = -1;  // spring_damper (-1 = ground)
@@ -75,7 +73,7 @@ struct Force {
 // the points apart; coupler λ = generalized force on joint_a's speed; rolling λ = contact force
 // on the wheel at the contact point, world components; general λ = generalized force Aᵀλ.
 struct Constraint {
-  enum class Kind { coincident, distance, coupler, general, rolling };
+  using Kind = ConstraintKind;
   std::string name;
   Kind kind = Kind::coincident;
   int row_offset = 0, nrows = 0;

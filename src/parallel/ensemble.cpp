@@ -20,10 +20,7 @@
 #include "parallel/stop_signal.hpp"
 #include "sim/simulate.hpp"
 #include "study/design.hpp"
-#include "study/parse_sampling.hpp"
-#include "study/parse_vary.hpp"
 #include "study/study_spec.hpp"
-#include "study/yaml_read.hpp"
 #include "parallel/version.hpp"
 #include "util/version.hpp"
 
@@ -137,7 +134,7 @@ std::string check_output(const std::string& output, const RunOptions& opt, const
     if (need > free_bytes) {
       const std::size_t T = layout.times.size(), n = layout.state_names.size();
       const std::size_t S = layout.record_sensitivities ? layout.sensitivity_names.size() : 0;
-      const SourceLocation where = st.sampling ? st.sampling_where : SourceLocation{st.file, 0, 0};
+      const SourceLocation& where = st.sampling.where;
       return error("sampling.samples",
                    "the output would need about " + human_bytes(need) + " (" + std::to_string(layout.nsamples) +
                        " samples x " + std::to_string(T) + " times x " + std::to_string(n) + " states x (1 + " +
@@ -175,18 +172,6 @@ std::string check_output(const std::string& output, const RunOptions& opt, const
   throw std::runtime_error(what);
 }
 
-study::Design make_design(const StudySpec& st) {
-  std::vector<study::VariedInput> inputs = study::parse_vary(st.vary, {st.file, 0, 0});
-  study::SamplingSpec spec;
-  if (st.sampling && !st.sampling.IsNull()) {
-    spec = study::parse_sampling(st.sampling, {st.file, 0, 0});
-  } else {
-    spec.method = study::SamplingMethod::mc;
-    spec.samples = 1;  // no sampling section: the nominal sample (plus any vary draws)
-  }
-  return study::Design(spec, std::move(inputs));
-}
-
 // Everything a run needs before it touches the output file: the study, the compiled model, the
 // design, the resolved input names and the file layout. Construction validates all of it and
 // throws InputError (file:line:column, key path) for bad input.
@@ -204,14 +189,6 @@ std::vector<std::string> set_arguments(const RunOptions& opt) {
   return set;
 }
 
-// Where `vary:` names input `name` (its key), for messages about the name.
-SourceLocation vary_key_location(const StudySpec& st, const std::string& name) {
-  if (st.vary && st.vary.IsMap())
-    for (const auto& kv : st.vary)
-      if (kv.first.IsScalar() && kv.first.Scalar() == name) return study::location_of(kv.first, {st.file, 0, 0});
-  return st.vary_where;
-}
-
 InputRef resolve_at(const Model& model, const std::string& name, const std::string& key, const SourceLocation& where) {
   try {
     return resolve_input(model, name, key);
@@ -226,22 +203,22 @@ struct Prepared {
         st(study::parse_study_file(study_path, set)),
         model(build_model(st.scene, parameter_overrides(st))),
         base(model),
-        design(make_design(st)) {
+        design(st.sampling, st.vary) {
     const std::map<std::string, double> overrides = parameter_overrides(st);
     for (const auto& [name, v] : st.set_inputs)
       if (!overrides.count(name)) base.set(resolve_input(model, name, "--set " + name), v);
-    for (const auto& in : design.inputs())
-      varied.push_back(resolve_at(model, in.name, "vary." + in.name, vary_key_location(st, in.name)));
+    for (std::size_t d = 0; d < st.vary.size(); ++d)
+      varied.push_back(resolve_at(model, st.vary[d].name, "vary." + st.vary[d].name, st.vary_where[d]));
     for (std::size_t i = 0; i < st.sensitivities.size(); ++i)
       sens.push_back(resolve_at(model, st.sensitivities[i], "sensitivities[" + std::to_string(i) + "]",
                                 i < st.sensitivity_where.size() ? st.sensitivity_where[i] : SourceLocation{st.file, 0, 0}));
 
-    flags.states = st.record.count("states") > 0;
-    flags.sensitivities = st.record.count("sensitivities") > 0 && !sens.empty();
-    flags.energy = st.record.count("energy") > 0;
-    flags.multipliers = st.record.count("multipliers") > 0 && model.nconstraint_rows > 0;
-    flags.constraint_residual = st.record.count("constraint_residual") > 0 && model.nconstraint_rows > 0;
-    if (st.record.count("sensitivities") && sens.empty())
+    flags.states = st.record.count(study::RecordItem::states) > 0;
+    flags.sensitivities = st.record.count(study::RecordItem::sensitivities) > 0 && !sens.empty();
+    flags.energy = st.record.count(study::RecordItem::energy) > 0;
+    flags.multipliers = st.record.count(study::RecordItem::multipliers) > 0 && model.nconstraint_rows > 0;
+    flags.constraint_residual = st.record.count(study::RecordItem::constraint_residual) > 0 && model.nconstraint_rows > 0;
+    if (st.record.count(study::RecordItem::sensitivities) && sens.empty())
       throw InputError(st.record_where, "record", "'sensitivities' is recorded but the study lists no sensitivities");
     if (!flags.sensitivities) sens.clear();  // what is not recorded is not computed
 

@@ -7,7 +7,7 @@
 
 #include "model/build_model.hpp"
 #include "model/scene/parse_scene.hpp"
-#include "model/yaml_util.hpp"
+#include "model/yaml_reader.hpp"
 #include "sim/simulate.hpp"
 #include "../support/layers.hpp"
 
@@ -95,7 +95,7 @@ void compare(const std::string& text, const std::vector<std::string>& sens) {
 }  // namespace
 
 TEST(Embedding, AgreesWithMultipliersOnPinnedPendulum) {
-  compare(model::read_file(std::string(KANESENS_SOURCE_DIR) + "/configs/constrained_pendulum.yaml"), {"m", "L", "base.q0[2]"});
+  compare(model::read_text_file(std::string(KANESENS_SOURCE_DIR) + "/configs/constrained_pendulum.yaml"), {"m", "L", "base.q0[2]"});
 }
 
 TEST(Embedding, AgreesWithMultipliersOnFourBar) { compare(kFourBar, {"a", "m", "j1.u0"}); }

@@ -10,6 +10,15 @@
 
 namespace kanesens::model {
 
+// The kinds a scene names, parsed from their names where the YAML is read; the rest of
+// kanesens sees only these enums.
+enum class JointType { revolute, prismatic, cylindrical, universal, planar, spherical, free, weld };
+enum class ForceKind { spring_damper, force, torque };
+enum class ConstraintKind { coincident, distance, coupler, general, rolling };
+const char* joint_type_name(JointType t);
+const char* force_kind_name(ForceKind k);
+const char* constraint_kind_name(ConstraintKind k);
+
 // A number or expression as written, with where it was written.
 struct ExprText {
   std::string text = "0";
@@ -41,7 +50,9 @@ struct BodySpec {
 };
 
 struct JointSpec {
-  std::string name, type, parent, child;
+  std::string name;
+  JointType type = JointType::revolute;
+  std::string parent, child;
   std::optional<Vec3Text> axis;
   std::vector<Vec3Text> axes;  // universal
   Vec3Text parent_point, child_point;
@@ -52,7 +63,8 @@ struct JointSpec {
 };
 
 struct ForceSpec {
-  std::string type, name;
+  ForceKind kind = ForceKind::force;
+  std::string name;
   // spring_damper
   std::string body_a, body_b;
   Vec3Text point_a, point_b;
@@ -60,18 +72,19 @@ struct ForceSpec {
   // force / torque
   std::string body;
   Vec3Text point, vector;
-  std::string frame = "world";
+  bool body_frame = false;  // vector in the body's frame (frame: body), else the world's
   SourceLocation where;
   std::string key;
 };
 
 // Constraints Σ_k a_jk u_k + a_j0 = 0 (docs/scene-format.md, "Constraints").
 struct ConstraintSpec {
-  std::string name, type;
+  std::string name;
+  ConstraintKind kind = ConstraintKind::coincident;
   // coincident, distance: two body points (body "ground" allowed)
   std::string body_a, body_b;
   Vec3Text point_a, point_b;
-  std::vector<std::string> components;  // coincident: world components kept, e.g. {"x", "y"}
+  std::vector<int> components;  // coincident: world components kept (0 x, 1 y, 2 z); empty = default
   ExprText length;                      // distance
   // coupler: u_a − ratio u_b = 0 (q_a − ratio q_b − offset = 0)
   std::string joint_a, joint_b;
