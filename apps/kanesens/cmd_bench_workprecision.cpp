@@ -53,7 +53,7 @@
 #include "model/build_model.hpp"
 #include "sim/simulate.hpp"
 #include "sim/solve/rk4.hpp"
-#include "study/study_spec.hpp"
+#include "study/setup.hpp"
 #include "util/error.hpp"
 #include "util/json_writer.hpp"
 #include "util/parse_number.hpp"
@@ -64,7 +64,6 @@ using namespace kanesens::dynamics;
 using namespace kanesens::model;
 using namespace kanesens::sim;
 using study::StudySpec;
-using study::parse_study_file;
 
 namespace {
 
@@ -157,14 +156,6 @@ struct Setup {
   const Model& model;
   const std::vector<double>& times;
 };
-
-Model build_study_model(const StudySpec& study) {
-  std::map<std::string, double> overrides;
-  for (const auto& [name, v] : study.set_inputs)
-    for (const auto& p : study.scene.parameters)
-      if (p.name == name) overrides[name] = v;
-  return build_model(study.scene, overrides);
-}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -499,16 +490,12 @@ int run_bench_workprecision(const WpOptions& o) {
   }
   if (!(o.atol_ratio > 0)) throw InputError({}, "--atol-ratio", "must be > 0");
   if (!(o.error_floor > 0)) throw InputError({}, "--error-floor", "must be > 0");
-  const StudySpec study = parse_study_file(o.study, o.set);
-  const Model model = build_study_model(study);
+  const study::StudySetup setup = study::setup_study(o.study, o.set);
+  const StudySpec& study = setup.spec;
+  const Model& model = setup.model;
   const Setup s{o, study, model, study.output_times};
-  SampleInputs inputs(model);
-  for (const auto& [name, v] : study.set_inputs)
-    if (std::none_of(study.scene.parameters.begin(), study.scene.parameters.end(), [&](const auto& p) { return p.name == name; }))
-      inputs.set(resolve_input(model, name, "--set " + name), v);
-  std::vector<InputRef> sens_refs;
-  for (std::size_t i = 0; i < study.sensitivities.size(); ++i)
-    sens_refs.push_back(resolve_input(model, study.sensitivities[i], "sensitivities[" + std::to_string(i) + "]"));
+  const SampleInputs& inputs = setup.base;
+  const std::vector<InputRef>& sens_refs = setup.sensitivities;
   const std::size_t ns = sens_refs.size();
 
   const std::vector<double> tols = numbers(o.tolerances, "--tolerances");
