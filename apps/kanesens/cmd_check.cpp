@@ -39,8 +39,7 @@ CLI::App* add_check(CLI::App& app, Action& action) {
         Workspace<double> ws(m);
         const std::vector<double> p = m.nominal_parameters();
         set_parameters(m, ws, p.data());
-        std::vector<double> ydot(y.size());
-        evaluate_rhs(m, ws, 0.0, y.data(), ydot.data());
+        evaluate_constraints(m, ws, 0.0, y.data(), y.data() + m.nq);
         rank = static_cast<int>(Eigen::FullPivLU<Eigen::MatrixXd>(ws.constraint_matrix).rank());
       }
       std::cout << "\n  degrees of freedom: " << m.nu - rank << " (nq = " << m.nq << ", nu = " << m.nu

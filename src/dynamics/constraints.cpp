@@ -234,7 +234,9 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
       ws.schur(j, i) = s;
     }
   }
-  // Pivoted Cholesky P W Pᵀ = L Lᵀ, pivots chosen on values; stops at rank r.
+  // Pivoted Cholesky P W Pᵀ = L Lᵀ, pivots chosen on values; stops at rank r. (Eigen has no
+  // rank-revealing Cholesky: its LDLT pivots but neither stops at the rank nor gives the
+  // factor blocks the minimum-norm multipliers below are computed from.)
   auto& W = ws.schur_factor;
   W = ws.schur;
   auto& perm = ws.schur_pivots;
@@ -300,7 +302,7 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
         for (int i = 0; i < nc; ++i) s += N(i, a) * N(i, b);
         G[b * ldg + a] = s;
       }
-    math::cholesky_factor(G, ldg, G, ldg, d);
+    if (!math::cholesky_factor(G, ldg, G, ldg, d)) return false;  // only with non-finite entries
     for (int a = 0; a < d; ++a) {  // y = Nᵀ λ_p, kept in schur_rhs (no longer needed)
       S s = S(0);
       for (int i = 0; i < nc; ++i) s += N(i, a) * lam[i];
@@ -313,7 +315,7 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
   for (int i = 0; i < nc; ++i) ws.multipliers[perm[i]] = lam[i];
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < nc; ++j) ws.udot[k] += ws.minv_at(k, j) * ws.multipliers[j];
-  return r > 0 || nc == 0;
+  return true;
 }
 
 #define KANESENS_INSTANTIATE(S)                                                          \

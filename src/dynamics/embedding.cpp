@@ -39,7 +39,9 @@ EmbeddingScratch<S>::EmbeddingScratch(const Model& m, const EmbeddingSets& sets)
 
 namespace {
 
-// LU with partial pivoting (pivots chosen on values) of sc.Ad in place.
+// LU with partial pivoting (pivots chosen on values) of sc.Ad in place. Hand-written rather than
+// Eigen's PartialPivLU: measurably faster on these few-row matrices (`kanesens bench rhs`,
+// rhs_embedding), and it allocates nothing.
 template <class S>
 bool factor(EmbeddingScratch<S>& sc) {
   const int n = static_cast<int>(sc.Ad.rows());

@@ -97,7 +97,7 @@ bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* y
   bool ok = solve_accelerations(m, ws);
   if (ok && m.nconstraint_rows > 0) {
     compute_constraints(m, ws, q, u, options);
-    solve_constrained_accelerations(m, ws);
+    ok = solve_constrained_accelerations(m, ws);
   }
   for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
   for (int i = 0; i < m.nu; ++i) ydot[m.nq + i] = ws.udot[i];

@@ -44,12 +44,14 @@ void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q,
 template <class S>
 void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u,
                          const DynamicsOptions& options = {});
-// After solve_accelerations (ws.udot = M⁻¹ f): the multipliers λ and u̇ = M⁻¹(f + Aᵀλ).
+// After solve_accelerations (ws.udot = M⁻¹ f): the multipliers λ and u̇ = M⁻¹(f + Aᵀλ), λ of
+// minimum norm when the constraints are redundant (ws.constraint_rank < m). False only when
+// the redundant-multiplier solve meets non-finite values.
 template <class S>
 bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws);
 
 // The whole right-hand side: y = [q; u] (nq + nu) → ydot = [q̇; u̇]. Returns false if M is
-// singular. Parameters must have been set.
+// not positive definite (or the multipliers' solve fails). Parameters must have been set.
 template <class S>
 bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot,
                   const DynamicsOptions& options = {});

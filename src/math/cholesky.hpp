@@ -7,6 +7,11 @@
 //
 // U(j, i) = (A(j, i) − Σ_{k<j} U(k, j) U(k, i)) / U(j, j) (Golub & Van Loan 2013, Alg. 4.2.1,
 // transposed): every sum is a dot product down two contiguous columns of U.
+//
+// Hand-written rather than Eigen's LLT on a Ref (in place, no allocation): for these matrices
+// (a few to a few tens of rows, double and Dual) it takes measurably fewer instructions and less
+// time per right-hand side (`kanesens bench rhs`); Eigen's dynamic-size LLT also computes the
+// matrix's l1 norm on every factorisation.
 #pragma once
 #include <Eigen/Core>
 #include <cmath>
