@@ -1,4 +1,4 @@
-// A study file (DESIGN.md §5): the scene, output times, solver settings, sensitivities, what to
+// A study file: the scene, output times, solver settings, sensitivities, what to
 // record, and (for `run`) the sampling design. Plain structs; parse_study_file() fills them.
 #pragma once
 #include <yaml-cpp/yaml.h>

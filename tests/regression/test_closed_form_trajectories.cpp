@@ -1,15 +1,14 @@
-// Whole trajectories of Kane scenes integrated by CVODES, against closed-form solutions
-// (../shared/REFERENCES.md §5):
-//   (a) damped linear oscillator (§5.1) as a prismatic joint with spring and damper: x(t) and
+// Whole trajectories of Kane scenes integrated by CVODES, against closed-form solutions:
+//   (a) damped linear oscillator as a prismatic joint with spring and damper: x(t) and
 //       ∂x/∂(x0, v0, m, c, k) against reference/damped_oscillator_sensitivities.csv, with the
 //       initial conditions both as parameters (q0: x0) and as initial-condition names
 //       (slider.q0, slider.u0); exact and difference-quotient sensitivity RHS, exact and DQ
 //       Jacobian;
 //   (b) small-angle uniform-rod pendulum: period 2π √(2L/(3g)) (1 + θ0²/16) from zero crossings;
-//   (c) torque-free rigid body I = diag(1,2,3), ω0 = (1,0,1) (§5.2): ω(t) = (cn, sn, dn)(t | 1/3)
-//       against reference/torque_free_rigid_body_omega.csv, on a free joint and on a spherical
-//       joint at the mass center; energy and spatial angular momentum R I ω conserved; the
-//       quaternion norm stays 1.
+//   (c) torque-free rigid body I = diag(1,2,3), ω0 = (1,0,1) (Landau & Lifshitz, Mechanics,
+//       §37): ω(t) = (cn, sn, dn)(t | 1/3) against reference/torque_free_rigid_body_omega.csv, on a
+//       free joint and on a spherical joint at the mass center; energy and spatial angular momentum
+//       R I ω conserved; the quaternion norm stays 1.
 #include <gtest/gtest.h>
 
 #include <cstdio>

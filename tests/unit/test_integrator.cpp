@@ -1,5 +1,5 @@
 // Tests of solve/integrator against hand-written OdeProblems:
-// - damped oscillator sensitivities against the analytic reference (REFERENCES.md §5.1),
+// - damped oscillator sensitivities against the closed form,
 //   for every sensitivity method, exact and DQ sensitivity RHS;
 // - failures are statuses with messages (throwing, NaN, too much work), not crashes;
 // - method/Jacobian variants agree; one Integrator reused equals fresh ones.
