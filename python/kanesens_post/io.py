@@ -1,4 +1,4 @@
-"""Open a kanesens run file (README, "HDF5 output") as one lazy xarray.Dataset.
+"""Open a kanesens run file (docs/reference/hdf5.md) as one lazy xarray.Dataset.
 
 What open_run() returns, whatever the file's dimension-scale details:
 

@@ -1,6 +1,6 @@
 """Synthetic kanesens run files for the post-processing tests (and the docs/post examples).
 
-write_run() writes an HDF5 file with the layout of the run file (README, "HDF5 output") using h5py,
+write_run() writes an HDF5 file with the layout of the run file (docs/reference/hdf5.md) using h5py,
 the way the C++ writer does: every dimension has a dimension scale (so xarray shows named dims),
 names are fixed-length null-padded strings tagged `_Encoding = utf-8`, per-output series live in the
 /outputs group and solver counters in /solver_stats. Designs (Saltelli, Morris) are generated here

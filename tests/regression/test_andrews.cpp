@@ -1,6 +1,6 @@
 // Andrews' squeezing mechanism (configs/andrews.yaml) against the Bari/CWI Test Set for IVP
 // Solvers, problem `andrews` (Mazzia, Magherini & Iavernaro, Release 2.3, Report 43/2006, Univ.
-// of Bari; the Fortran `andrews.f` with its reference solution `andsoln`):
+// of Bari; the Fortran `andrews.f`, its initial values `init` and reference solution `solut`):
 //   (a) M(q), f(q, q̇) at random states against the test set's formulas (coded here
 //       independently of the scene), and the constraint rows A = G, bias −(∂(Gq̇)/∂q) q̇ and the
 //       residuals g(q);
@@ -140,16 +140,19 @@ ks::Model andrews_model() {
   return ks::build_model(ks::parse_scene_file(std::string(KANESENS_SOURCE_DIR) + "/configs/andrews.yaml"));
 }
 
-// Columns of the reference table, 27 rows.
+// tests/data/andrews_reference.csv (its header says where each column comes from), 27 rows:
+// y0 (the test set's consistent initial values), published (its reference solution at t = 0.03),
+// recomputed (tests/data/andrews_reference.py, SciPy DOP853 at rtol 1e-13).
 struct Reference {
   std::vector<double> y0, published, recomputed;
 };
 Reference read_reference() {
-  const std::string path = std::string(KANESENS_SHARED_DIR) + "/reference/andrews_testset_reference.csv";
+  const std::string path = std::string(KANESENS_SOURCE_DIR) + "/tests/data/andrews_reference.csv";
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot open " + path);
   std::string line;
-  std::getline(in, line);
+  while (std::getline(in, line) && (line.empty() || line[0] == '#')) {
+  }  // comment lines, then the column names
   Reference r;
   while (std::getline(in, line)) {
     if (line.empty()) continue;
