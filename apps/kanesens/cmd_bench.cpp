@@ -199,7 +199,7 @@ int run_bench_rhs(const BenchOptions& o) {
 }  // namespace
 
 CLI::App* add_bench(CLI::App& app, Action& action) {
-  auto* cmd = app.add_subcommand("bench", "Speed and work-precision measurements (JSON with --json)");
+  auto* cmd = app.add_subcommand("bench", "Speed of the right-hand side (JSON with --json); the work-precision benchmark is kanesens-workprecision");
   cmd->require_subcommand(1);
   auto* rhs = cmd->add_subcommand("rhs", "Time the right-hand side, M and f, and the exact (Dual) Jacobian");
   auto o = std::make_shared<BenchOptions>();
@@ -212,7 +212,6 @@ CLI::App* add_bench(CLI::App& app, Action& action) {
   rhs->add_option("--profile", o->profile,
                   "Run exactly N untimed evaluations of each kind (for callgrind: instructions / N)");
   rhs->callback([&action, o] { action = [o] { return run_bench_rhs(*o); }; });
-  add_bench_workprecision(cmd, action);
   return cmd;
 }
 

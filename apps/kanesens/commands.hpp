@@ -12,7 +12,5 @@ CLI::App* add_eom(CLI::App& app, Action& action);
 CLI::App* add_simulate(CLI::App& app, Action& action);
 CLI::App* add_run(CLI::App& app, Action& action);
 CLI::App* add_bench(CLI::App& app, Action& action);
-// `bench workprecision` (cmd_bench_workprecision.cpp), added to the `bench` subcommand by add_bench.
-void add_bench_workprecision(CLI::App* bench, Action& action);
 
 }  // namespace kanesens::cli

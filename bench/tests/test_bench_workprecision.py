@@ -1,4 +1,4 @@
-"""`kanesens bench workprecision`: the rows it prints, errors that fall with the tolerance, a
+"""`kanesens-workprecision`: the rows it prints, errors that fall with the tolerance, a
 reference read from a file (here `kanesens simulate` output) equivalent to the computed one,
 skipped Adams rows for a projected constrained scene, and bad input as exit status 2."""
 import json
@@ -6,7 +6,7 @@ import subprocess
 
 from workprecision_support import ROOT, exe, row, rows, run
 
-CHAIN = ["configs/wp_chain4.yaml", "--set", "time.end=2", "--set", "time.outputs=21"]
+CHAIN = ["bench/configs/wp_chain4.yaml", "--set", "time.end=2", "--set", "time.outputs=21"]
 
 
 def test_rows_and_errors_fall_with_tolerance():
@@ -37,7 +37,7 @@ def test_reference_file_matches_computed_reference(tmp_path):
 
 
 def test_sensitivity_methods_and_constrained_scene():
-    d = run("configs/wp_constrained_pendulum.yaml", "--set", "time.end=2", "--set", "time.outputs=21",
+    d = run("bench/configs/wp_constrained_pendulum.yaml", "--set", "time.end=2", "--set", "time.outputs=21",
             "--tolerances", "1e-6", "--reference-rtol", "1e-11")
     assert row(d, "adams-newton", tol=1e-6)["skipped"]
     for m in ("bdf-exact", "sens-exact", "sens-dq"):

@@ -1,5 +1,5 @@
 """Stability atlas (docs/stability.md), chaos: the double pendulum released from shoulder = 2 rad
-(configs/wp_double_pendulum_lyapunov.yaml), sensitivities to both initial angles, 40 s. The norm
+(bench/configs/wp_double_pendulum_lyapunov.yaml), sensitivities to both initial angles, 40 s. The norm
 of the sensitivity matrix grows like exp(lambda t): ln ||S(t)||_F / t estimates the largest
 Lyapunov exponent. Pinned: the growth rate is positive and about 1.3 1/s (0.8..2) for BDF,
 Adams and RK4 alike, although their trajectories disagree completely by the end (final error
@@ -8,7 +8,7 @@ from workprecision_support import row, run
 
 
 def test_sensitivity_growth_rate_is_a_positive_lyapunov_exponent():
-    d = run("configs/wp_double_pendulum_lyapunov.yaml", "--set", "time.end=40", "--set", "time.outputs=401",
+    d = run("bench/configs/wp_double_pendulum_lyapunov.yaml", "--set", "time.end=40", "--set", "time.outputs=401",
             "--methods", "bdf-exact,adams-newton,rk4", "--with-sens", "--tolerances", "1e-8",
             "--reference-rtol", "1e-10")
     rates = [d["reference"]["row"]["sens_growth_rate"]]

@@ -1,5 +1,5 @@
 """Stability atlas (docs/stability.md), stiffness: the 4-link chain swinging about its free first
-joint while springs k = 1e6 N m/rad, c = 10 hold the others (configs/wp_chain4_stiff_swing.yaml,
+joint while springs k = 1e6 N m/rad, c = 10 hold the others (bench/configs/wp_chain4_stiff_swing.yaml,
 started on the slow manifold), 0.5 s. The Jacobian's largest eigenvalue is -164 +/- 5718i 1/s,
 so RK4 is stable only for h below about 2.8/5720 = 4.9e-4 s.
 
@@ -12,7 +12,7 @@ from workprecision_support import row, rows, run
 
 
 def test_stiff_chain_rk4_blows_up_bdf_cruises():
-    d = run("configs/wp_chain4_stiff_swing.yaml", "--set", "time.end=0.5", "--set", "time.outputs=26",
+    d = run("bench/configs/wp_chain4_stiff_swing.yaml", "--set", "time.end=0.5", "--set", "time.outputs=26",
             "--methods", "bdf-exact,bdf-dq,adams-newton,adams-functional,dop853,rk4", "--tolerances", "1e-4",
             "--rk4-steps", "250,1250", "--reference-rtol", "1e-10")
     by_h = {round(r["h"], 12): r for r in rows(d, "rk4")}

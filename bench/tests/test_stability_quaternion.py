@@ -1,12 +1,12 @@
 """Stability atlas (docs/stability.md), quaternion norm drift: the fast heavy top
-(configs/wp_spinning_top.yaml: spherical joint, spin 100 rad/s). With the stabilisation term
+(bench/configs/wp_spinning_top.yaml: spherical joint, spin 100 rad/s). With the stabilisation term
 kappa (1 - |q|^2) q in the kinematic equation, | |q| - 1 | stays within a small multiple of rtol
 for BDF and Adams, and does not grow with time (10 s vs 40 s), while the energy error does."""
 from workprecision_support import row, run
 
 
 def drift(end, tols="1e-6,1e-8"):
-    return run("configs/wp_spinning_top.yaml", "--set", f"time.end={end}", "--set", f"time.outputs={10 * end + 1}",
+    return run("bench/configs/wp_spinning_top.yaml", "--set", f"time.end={end}", "--set", f"time.outputs={10 * end + 1}",
                "--methods", "bdf-exact,adams-newton", "--tolerances", tols, "--reference-rtol", "1e-7")
 
 
