@@ -1,4 +1,5 @@
 #include "model/build_model.hpp"
+#include "model/joint_types.hpp"
 
 #include <Eigen/Dense>
 #include <cmath>
@@ -163,46 +164,7 @@ class Builder {
       j.child = body_ref(js.child, js.where, js.key + ".child");
       if (j.child == -1) fail(js.where, js.key + ".child", "ground cannot be a joint's child; swap parent and child");
       if (j.child == j.parent) fail(js.where, js.key + ".child", "a joint cannot connect body '" + js.child + "' to itself");
-      const std::string& n = j.name;
-      switch (j.type) {
-        case JointType::revolute:
-        case JointType::prismatic:
-          j.coordinate_names = {n + ".q"};
-          j.speed_names = {n + ".u"};
-          j.speeds = {SpeedAxis{j.type == JointType::revolute}};
-          break;
-        case JointType::cylindrical:
-          j.coordinate_names = {n + ".q1", n + ".q2"};
-          j.speed_names = {n + ".u1", n + ".u2"};
-          j.speeds = {SpeedAxis{true}, SpeedAxis{false}};
-          break;
-        case JointType::universal:
-          j.coordinate_names = {n + ".q1", n + ".q2"};
-          j.speed_names = {n + ".u1", n + ".u2"};
-          j.speeds = {SpeedAxis{true}, SpeedAxis{true}};
-          j.speeds[1].carriers = 1;
-          break;
-        case JointType::planar:
-          j.coordinate_names = {n + ".q1", n + ".q2", n + ".q3"};
-          j.speed_names = {n + ".u1", n + ".u2", n + ".u3"};
-          j.speeds = {SpeedAxis{false}, SpeedAxis{false}, SpeedAxis{true}};
-          j.speeds[2].carriers = 2;
-          break;
-        case JointType::spherical:
-          j.coordinate_names = {n + ".qw", n + ".qx", n + ".qy", n + ".qz"};
-          j.speed_names = {n + ".wx", n + ".wy", n + ".wz"};
-          for (int a = 0; a < 3; ++a) j.speeds.push_back(SpeedAxis{true, true, {-1, -1, -1}, a, 3});
-          j.quaternion_offset = 0;
-          break;
-        case JointType::free:
-          j.coordinate_names = {n + ".x", n + ".y", n + ".z", n + ".qw", n + ".qx", n + ".qy", n + ".qz"};
-          j.speed_names = {n + ".vx", n + ".vy", n + ".vz", n + ".wx", n + ".wy", n + ".wz"};
-          for (int a = 0; a < 3; ++a) j.speeds.push_back(SpeedAxis{false});
-          for (int a = 0; a < 3; ++a) j.speeds.push_back(SpeedAxis{true, true, {-1, -1, -1}, a, 6});
-          j.quaternion_offset = 3;
-          break;
-        case JointType::weld: break;
-      }
+      set_joint_kind(j);
       j.nq = static_cast<int>(j.coordinate_names.size());
       j.nu = static_cast<int>(j.speed_names.size());
       j.q_offset = q;

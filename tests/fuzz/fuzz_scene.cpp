@@ -12,7 +12,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    const kanesens::Model m = kanesens::build_model(kanesens::parse_scene_text(text, "fuzz.yaml"));
+    const kanesens::model::Model m = kanesens::model::build_model(kanesens::model::parse_scene_text(text, "fuzz.yaml"));
     (void)m;
   } catch (const kanesens::InputError&) {
   } catch (const std::exception& e) {
