@@ -3,13 +3,16 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "util/json_writer.hpp"
 #include "util/parse_number.hpp"
 
 namespace kanesens::cli {
+
+using namespace kanesens::dynamics;
+using namespace kanesens::model;
 
 namespace {
 struct EomOptions {

@@ -5,7 +5,7 @@
 
 #include "commands.hpp"
 #include "util/error.hpp"
-#include "util/version.hpp"
+#include "parallel/version.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"kanesens: Kane's equations, CVODES sensitivities and MPI ensembles of multibody systems"};
@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
   if (show_version) {
-    std::cout << kanesens::version_report();
+    std::cout << kanesens::parallel::version_report();
     return 0;
   }
   if (!action) {

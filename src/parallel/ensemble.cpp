@@ -16,18 +16,18 @@
 #include <span>
 
 #include "io/run_file.hpp"
-#include "model/build_model.hpp"
 #include "parallel/mpi_session.hpp"
 #include "parallel/stop_signal.hpp"
 #include "sim/simulate.hpp"
-#include "study/design.hpp"
-#include "study/parse_sampling.hpp"
-#include "study/parse_vary.hpp"
-#include "study/study_spec.hpp"
-#include "study/yaml_read.hpp"
+#include "study/setup.hpp"
+#include "parallel/version.hpp"
 #include "util/version.hpp"
 
 namespace kanesens::parallel {
+
+using namespace kanesens::model;
+using namespace kanesens::sim;
+using study::StudySpec;
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -135,7 +135,7 @@ std::string check_output(const std::string& output, const RunOptions& opt, const
     if (need > free_bytes) {
       const std::size_t T = layout.times.size(), n = layout.state_names.size();
       const std::size_t S = layout.record_sensitivities ? layout.sensitivity_names.size() : 0;
-      const SourceLocation where = st.sampling ? st.sampling_where : SourceLocation{st.file, 0, 0};
+      const SourceLocation& where = st.sampling.where;
       return error("sampling.samples",
                    "the output would need about " + human_bytes(need) + " (" + std::to_string(layout.nsamples) +
                        " samples x " + std::to_string(T) + " times x " + std::to_string(n) + " states x (1 + " +
@@ -173,49 +173,13 @@ std::string check_output(const std::string& output, const RunOptions& opt, const
   throw std::runtime_error(what);
 }
 
-study::Design make_design(const StudySpec& st) {
-  std::vector<study::VariedInput> inputs = study::parse_vary(st.vary, {st.file, 0, 0});
-  study::SamplingSpec spec;
-  if (st.sampling && !st.sampling.IsNull()) {
-    spec = study::parse_sampling(st.sampling, {st.file, 0, 0});
-  } else {
-    spec.method = study::SamplingMethod::mc;
-    spec.samples = 1;  // no sampling section: the nominal sample (plus any vary draws)
-  }
-  return study::Design(spec, std::move(inputs));
-}
-
 // Everything a run needs before it touches the output file: the study, the compiled model, the
 // design, the resolved input names and the file layout. Construction validates all of it and
 // throws InputError (file:line:column, key path) for bad input.
-std::map<std::string, double> parameter_overrides(const StudySpec& st) {
-  std::map<std::string, double> out;
-  for (const auto& [name, v] : st.set_inputs)
-    for (const auto& p : st.scene.parameters)
-      if (p.name == name) out[name] = v;
-  return out;
-}
-
 std::vector<std::string> set_arguments(const RunOptions& opt) {
   std::vector<std::string> set = opt.set;
   if (opt.samples > 0) set.push_back("sampling.samples=" + std::to_string(opt.samples));
   return set;
-}
-
-// Where `vary:` names input `name` (its key), for messages about the name.
-SourceLocation vary_key_location(const StudySpec& st, const std::string& name) {
-  if (st.vary && st.vary.IsMap())
-    for (const auto& kv : st.vary)
-      if (kv.first.IsScalar() && kv.first.Scalar() == name) return study::location_of(kv.first, {st.file, 0, 0});
-  return st.vary_where;
-}
-
-InputRef resolve_at(const Model& model, const std::string& name, const std::string& key, const SourceLocation& where) {
-  try {
-    return resolve_input(model, name, key);
-  } catch (const InputError& e) {
-    throw InputError(where, e.key_path(), e.detail());
-  }
 }
 
 // The design's run labels and input distributions as the run file stores them.
@@ -238,31 +202,16 @@ io::InputDistribution input_distribution(const study::VariedInput& in) {
   return d;
 }
 
+// Everything a run needs before it touches the output file: the study setup (which validates
+// the study and throws InputError for bad input) and the file layout.
 struct Prepared {
   Prepared(const std::string& study_path, const RunOptions& opt, int nranks)
-      : set(set_arguments(opt)),
-        st(parse_study_file(study_path, set)),
-        model(build_model(st.scene, parameter_overrides(st))),
-        base(model),
-        design(make_design(st)) {
-    const std::map<std::string, double> overrides = parameter_overrides(st);
-    for (const auto& [name, v] : st.set_inputs)
-      if (!overrides.count(name)) base.set(resolve_input(model, name, "--set " + name), v);
-    for (const auto& in : design.inputs())
-      varied.push_back(resolve_at(model, in.name, "vary." + in.name, vary_key_location(st, in.name)));
-    for (std::size_t i = 0; i < st.sensitivities.size(); ++i)
-      sens.push_back(resolve_at(model, st.sensitivities[i], "sensitivities[" + std::to_string(i) + "]",
-                                i < st.sensitivity_where.size() ? st.sensitivity_where[i] : SourceLocation{st.file, 0, 0}));
-
-    flags.states = st.record.count("states") > 0;
-    flags.sensitivities = st.record.count("sensitivities") > 0 && !sens.empty();
-    flags.energy = st.record.count("energy") > 0;
-    flags.multipliers = st.record.count("multipliers") > 0 && model.nconstraint_rows > 0;
-    flags.constraint_residual = st.record.count("constraint_residual") > 0 && model.nconstraint_rows > 0;
-    if (st.record.count("sensitivities") && sens.empty())
-      throw InputError(st.record_where, "record", "'sensitivities' is recorded but the study lists no sensitivities");
-    if (!flags.sensitivities) sens.clear();  // what is not recorded is not computed
-
+      : setup(study::setup_study(study_path, set_arguments(opt))), sens(setup.recorded_sensitivities()) {
+    const StudySpec& st = setup.spec;
+    const Model& model = setup.model;
+    const study::Design& design = setup.design;
+    const RecordFlags& flags = setup.record;
+    const std::vector<std::string>& set = setup.set;
     layout.times = st.output_times;
     layout.state_names = model.state_names;
     for (const auto& in : design.inputs()) layout.parameter_names.push_back(in.name);
@@ -304,13 +253,8 @@ struct Prepared {
     for (const auto& in : design.inputs()) layout.distributions.push_back(input_distribution(in));
   }
 
-  std::vector<std::string> set;
-  StudySpec st;
-  Model model;
-  SampleInputs base;
-  study::Design design;
-  std::vector<InputRef> varied, sens;
-  RecordFlags flags;
+  study::StudySetup setup;
+  std::vector<InputRef> sens;  // computed: those recorded
   io::RunLayout layout;
 };
 
@@ -327,13 +271,12 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
   MPI_Comm_size(comm, &nranks);
 
   const Prepared prepared(study_path, opt, nranks);
-  const StudySpec& st = prepared.st;
-  const Model& model = prepared.model;
-  const SampleInputs& base = prepared.base;
-  const study::Design& design = prepared.design;
-  const std::vector<InputRef>& varied = prepared.varied;
+  const study::StudySetup& setup = prepared.setup;
+  const StudySpec& st = setup.spec;
+  const Model& model = setup.model;
+  const study::Design& design = setup.design;
   const std::vector<InputRef>& sens = prepared.sens;
-  const RecordFlags& flags = prepared.flags;
+  const RecordFlags& flags = setup.record;
   const io::RunLayout& layout = prepared.layout;
 
   std::string output = opt.output;
@@ -369,10 +312,9 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
 
   SharedCounter next(comm, 0), done(comm, 0);
   const long long npending = opt.resume ? static_cast<long long>(pending.size()) : design.size();
-  KaneProblem problem(model, sens, st.constraints);
-  problem.set_initial_time(st.output_times.front());
+  KaneProblem problem(model, sens, st.constraints, st.output_times.front());
   std::vector<double> outputs;
-  solve::Integrator integrator(st.solver);
+  sim::Integrator integrator(st.solver);
   Trajectory traj;
   resize_trajectory(traj, problem, st.output_times.size(), flags);
   std::vector<double> values(design.dimension()), y0(static_cast<std::size_t>(model.nstate()));
@@ -428,7 +370,6 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
       for (long long pos = first; pos < last && stop_signal() == 0; ++pos) {  // unstarted ones stay status 0
         const long long i = opt.resume ? pending[static_cast<std::size_t>(pos)] : pos;
         t0 = Clock::now();
-        SampleInputs in = base;
         int status = 1;
         std::string message;
         std::fill(values.begin(), values.end(), std::nan(""));
@@ -437,9 +378,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
         try {
           // Inside the try: a quantile can overflow (Boost.Math throws std::overflow_error for
           // a lognormal far in its tail), which is this sample's failure, not the run's.
-          design.sample(i, values);
-          for (std::size_t d = 0; d < values.size(); ++d) in.set(varied[d], values[d]);
-          problem.set_sample(in);
+          problem.set_sample(setup.sample(i, values));
           problem.initial_state(y0.data());
           simulate(problem, integrator, st.output_times, flags, traj);
           const auto& s = traj.result.stats;

@@ -9,12 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "expr/expression.hpp"
+#include "model/expr/expression.hpp"
 #include "model/build_model.hpp"
 #include "parallel/ensemble.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 

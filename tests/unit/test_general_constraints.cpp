@@ -7,11 +7,12 @@
 #include <sstream>
 #include <string>
 
-#include "ad/dual.hpp"
-#include "kane/equations.hpp"
+#include "math/dual.hpp"
+#include "dynamics/equations.hpp"
 #include "kane_test_support.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 // n prismatic joints along x in a chain, n parameters p0..p{n-1} = 0.01 (i + 1), and one general
