@@ -24,7 +24,8 @@ KaneProblem::KaneProblem(const Model& model, std::vector<InputRef> sensitivities
       parameters_(model.nparam()),
       dq_parameters_(model.nparam() + sens_.size()),
       y_dual_(model.nstate()),
-      ydot_dual_(model.nstate()) {
+      ydot_dual_(model.nstate()),
+      sensitivity_blocks_(model, static_cast<int>(sens_.size())) {
   for (std::size_t i = 0; i < sens_.size(); ++i)
     if (sens_[i].kind == InputRef::Kind::parameter) ws_sens_[i] = std::make_unique<Workspace<Dual>>(model);
   for (const Constraint& c : model.constraints)
@@ -73,6 +74,25 @@ void KaneProblem::set_sample(const SampleInputs& inputs) {
     sc_ = std::make_unique<EmbeddingScratch<double>>(model_, sets_);
     sc_dual_ = std::make_unique<EmbeddingScratch<Dual>>(model_, sets_);
   }
+  // Jacobian blocks cover size() columns, which the embedding's sets decide.
+  if (jacobian_blocks_size_ != size()) {
+    jacobian_blocks_ = TangentBlocks(model_, size());
+    jacobian_blocks_size_ = size();
+  }
+  auto seed_parameters = [&](auto& b, bool with_sensitivities) {
+    using MD = typename std::decay_t<decltype(b)>::Scalar;
+    std::vector<MD> pm(parameters_.begin(), parameters_.end());
+    if (with_sensitivities)
+      for (int i = 0; i < b.count; ++i) {
+        const InputRef& in = sens_[static_cast<std::size_t>(b.first + i)];
+        if (in.kind == InputRef::Kind::parameter) pm[static_cast<std::size_t>(in.index)].set_d(i, 1.0);
+      }
+    set_parameters(model_, b.ws, pm.data());
+    b.embedding.reset();
+    if (embedded_) b.embedding = std::make_unique<EmbeddingScratch<MD>>(model_, sets_);
+  };
+  jacobian_blocks_.for_each([&](auto& b) { seed_parameters(b, false); });
+  sensitivity_blocks_.for_each([&](auto& b) { seed_parameters(b, true); });
   std::copy(parameters_.begin(), parameters_.end(), dq_parameters_.begin());
   for (std::size_t i = 0; i < sens_.size(); ++i)
     dq_parameters_[model_.nparam() + i] = sens_[i].kind == InputRef::Kind::parameter ? 0.0 : 1.0;
@@ -468,26 +488,77 @@ void KaneProblem::rhs(double t, const double* y, double* ydot) {
   if (embedded_) {
     if (!embedded_rhs(model_, ws_, *sc_, sets_, t, y, ydot, dynamics_))
       throw std::runtime_error("embedding: singular mass matrix or dependent-speed matrix at t = " + std::to_string(t));
-    if (sc_->conditioning > 1e10)
-      throw std::runtime_error("embedding: the independent speeds chosen at t0 no longer parameterise the motion at t = " +
-                               std::to_string(t) + " (dependent-speed matrix conditioning " +
-                               std::to_string(sc_->conditioning) + "); use formulation: multipliers");
+    check_embedding_conditioning(sc_->conditioning, t);
     return;
   }
   if (!evaluate_rhs(model_, ws_, t, y, ydot, dynamics_))
     throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
 }
 
+void KaneProblem::check_embedding_conditioning(double conditioning, double t) const {
+  if (conditioning > 1e10)
+    throw std::runtime_error("embedding: the independent speeds chosen at t0 no longer parameterise the motion at t = " +
+                             std::to_string(t) + " (dependent-speed matrix conditioning " +
+                             std::to_string(conditioning) + "); use formulation: multipliers");
+}
+
+template <int W>
+bool KaneProblem::evaluate_block(TangentBlock<W>& b, double t) {
+  using MD = math::MultiDual<W>;
+  return embedded_ ? embedded_rhs(model_, b.ws, *b.embedding, sets_, MD(t), b.y.data(), b.ydot.data(), dynamics_)
+                   : evaluate_rhs(model_, b.ws, MD(t), b.y.data(), b.ydot.data(), dynamics_);
+}
+
+// Columns in blocks: a block seeds e_c on y_c for each of its columns c and reads them all from
+// one pass.
 void KaneProblem::jacobian(double t, const double* y, const double*, double* J) {
   const int n = size();
-  for (int c = 0; c < n; ++c) {
-    for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], r == c ? 1.0 : 0.0);
-    const bool ok = embedded_ ? embedded_rhs(model_, ws_jacobian_, *sc_dual_, sets_, Dual(t), y_dual_.data(), ydot_dual_.data(), dynamics_)
-                              : evaluate_rhs(model_, ws_jacobian_, Dual(t), y_dual_.data(), ydot_dual_.data(), dynamics_);
-    if (!ok)
+  jacobian_blocks_.for_each([&](auto& b) {
+    for (int r = 0; r < n; ++r) {
+      b.y[r].v = y[r];
+      b.y[r].set_tangents([&](int i) { return b.first + i == r ? 1.0 : 0.0; }, b.count);
+    }
+    if (!evaluate_block(b, t))
       throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
-    for (int r = 0; r < n; ++r) J[r + c * n] = ydot_dual_[r].d;
+    for (int i = 0; i < b.count; ++i) {
+      double* column = J + static_cast<std::ptrdiff_t>(b.first + i) * n;
+      for (int r = 0; r < n; ++r) column[r] = b.ydot[r].d(i);
+    }
+  });
+}
+
+// Tangent i of a block is (s_i on y, e_p on its parameter — set by set_sample), so one pass gives
+// J s_i + ∂f/∂p_i for all the block's sensitivities.
+void KaneProblem::sensitivity_rhs_all(double t, const double* y, const double*, int, const double* const* s,
+                                      double* const* sdot) {
+  const int n = size();
+  sensitivity_blocks_.for_each([&](auto& b) {
+    for (int r = 0; r < n; ++r) {
+      b.y[r].v = y[r];
+      b.y[r].set_tangents([&](int i) { return s[b.first + i][r]; }, b.count);
+    }
+    if (!evaluate_block(b, t))
+      throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
+    for (int i = 0; i < b.count; ++i)
+      for (int r = 0; r < n; ++r) sdot[b.first + i][r] = b.ydot[r].d(i);
+  });
+}
+
+// f is the value part of the first sensitivity pass.
+void KaneProblem::rhs_with_sensitivities(double t, const double* y, int ns, const double* const* s, double* ydot,
+                                         double* const* sdot) {
+  if (ns == 0) {
+    rhs(t, y, ydot);
+    return;
   }
+  sensitivity_rhs_all(t, y, nullptr, ns, s, sdot);
+  bool first = true;
+  sensitivity_blocks_.for_each([&](auto& b) {
+    if (!first) return;
+    first = false;
+    for (int r = 0; r < size(); ++r) ydot[r] = b.ydot[r].v;
+    if (embedded_) check_embedding_conditioning(b.embedding->conditioning, t);
+  });
 }
 
 void KaneProblem::sensitivity_rhs(double t, const double* y, const double*, int i, const double* s,

@@ -20,6 +20,7 @@
 #include "sim/inputs.hpp"
 #include "math/min_norm_solver.hpp"
 #include "sim/solve/ode_problem.hpp"
+#include "sim/tangent_blocks.hpp"
 
 namespace kanesens::sim {
 
@@ -53,6 +54,12 @@ class KaneProblem final : public OdeProblem {
   bool has_sensitivity_rhs() const override { return true; }
   void sensitivity_rhs(double t, const double* y, const double* ydot, int i, const double* s,
                        double* sdot) override;
+  // All sensitivities in multi-tangent passes (blocks of up to 16), and with f from the first
+  // pass (DOP853's stages).
+  void sensitivity_rhs_all(double t, const double* y, const double* ydot, int ns, const double* const* s,
+                           double* const* sdot) override;
+  void rhs_with_sensitivities(double t, const double* y, int ns, const double* const* s, double* ydot,
+                              double* const* sdot) override;
   std::vector<double> sensitivity_scales() const override;
   double* dq_parameters() override { return dq_parameters_.data(); }
   std::vector<int> dq_parameter_list() const override;
@@ -135,6 +142,14 @@ class KaneProblem final : public OdeProblem {
   std::vector<double> parameters_;                        // as set in ws_
   std::vector<double> dq_parameters_;                     // np + ns dummies, read by rhs()
   std::vector<Dual> y_dual_, ydot_dual_;
+  // Multi-tangent passes: the Jacobian's columns (zero parameter tangents) and the
+  // sensitivities (the tangent e_p of each parameter sensitivity set per sample).
+  TangentBlocks jacobian_blocks_, sensitivity_blocks_;
+  int jacobian_blocks_size_ = -1;
+  template <int W>
+  bool evaluate_block(TangentBlock<W>& b, double t);
+  // The embedding's check that the independent speeds chosen at t0 still parameterise the motion.
+  void check_embedding_conditioning(double conditioning, double t) const;
 };
 
 }  // namespace kanesens::sim

@@ -40,6 +40,8 @@ struct CallbackData {
   long recoverable = 0;          // callbacks that returned +1
   std::string callback_message;  // last callback failure (exception or non-finite output)
   std::string solver_message;    // last error reported by CVODES's error handler
+  std::vector<const double*> s_in;  // sens_rhs_all_trampoline's pointers into yS and ySdot (ns each)
+  std::vector<double*> s_out;
 
   void reset(OdeProblem* p, int size) {
     problem = p;
@@ -121,6 +123,30 @@ int sens_rhs_trampoline(int /*Ns*/, sunrealtype t, N_Vector y, N_Vector ydot, in
     cb.problem->sensitivity_rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), iS,
                                 N_VGetArrayPointer(yS), sdot);
     return cb.check_finite("sensitivity_rhs", t, sdot, cb.n);
+  } catch (const std::exception& e) {
+    return cb.fail("sensitivity_rhs", t, e.what());
+  } catch (...) {
+    return cb.fail("sensitivity_rhs", t, "unknown exception");
+  }
+}
+
+// All sensitivities in one call (CVodeSensInit): the problem evaluates every direction in one
+// multi-tangent pass.
+int sens_rhs_all_trampoline(int Ns, sunrealtype t, N_Vector y, N_Vector ydot, N_Vector* yS, N_Vector* ySdot,
+                            void* user_data, N_Vector, N_Vector) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    for (int i = 0; i < Ns; ++i) {
+      cb.s_in[static_cast<std::size_t>(i)] = N_VGetArrayPointer(yS[i]);
+      cb.s_out[static_cast<std::size_t>(i)] = N_VGetArrayPointer(ySdot[i]);
+    }
+    cb.problem->sensitivity_rhs_all(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), Ns, cb.s_in.data(),
+                                    cb.s_out.data());
+    for (int i = 0; i < Ns; ++i) {
+      const int flag = cb.check_finite("sensitivity_rhs", t, cb.s_out[static_cast<std::size_t>(i)], cb.n);
+      if (flag != 0) return flag;
+    }
+    return 0;
   } catch (const std::exception& e) {
     return cb.fail("sensitivity_rhs", t, e.what());
   } catch (...) {
@@ -284,6 +310,9 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, dou
   ctx = make_context();
   y = make_serial_vector(n_states, ctx.get());
   N_VConst(0.0, y.get());
+  // Fused vector operations: CVODES updates the Ns sensitivity vectors with one call per
+  // operation instead of one per vector (the clones below inherit this).
+  check_flag(N_VEnableFusedOps_Serial(y.get(), SUNTRUE), "N_VEnableFusedOps_Serial");
 
   // create → init
   mem = make_cvode(o.method == Method::bdf ? CV_BDF : CV_ADAMS, ctx.get());
@@ -334,10 +363,20 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, dou
   if (n_sens > 0) {
     yS = NVectorArray(n_sens, y.get());
     for (int i = 0; i < n_sens; ++i) N_VConst(0.0, yS[i]);
-    check_flag(CVodeSensInit1(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
-                              o.sens_rhs == SensitivityRhs::exact ? sens_rhs_trampoline : nullptr,
-                              yS.get()),
-               "CVodeSensInit1");
+    // Exact right-hand sides all at once (one multi-tangent pass), except for staggered1, which
+    // CVODES runs only with the one-at-a-time form.
+    if (o.sens_rhs == SensitivityRhs::exact && o.sensitivity_method != SensitivityMethod::staggered1) {
+      cb.s_in.assign(static_cast<std::size_t>(n_sens), nullptr);
+      cb.s_out.assign(static_cast<std::size_t>(n_sens), nullptr);
+      check_flag(CVodeSensInit(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
+                               sens_rhs_all_trampoline, yS.get()),
+                 "CVodeSensInit");
+    } else {
+      check_flag(CVodeSensInit1(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
+                                o.sens_rhs == SensitivityRhs::exact ? sens_rhs_trampoline : nullptr,
+                                yS.get()),
+                 "CVodeSensInit1");
+    }
     if (o.sens_atol) {
       std::vector<double> abstol_s(static_cast<std::size_t>(n_sens), *o.sens_atol);  // copied
       check_flag(CVodeSensSStolerances(mem.get(), o.rtol, abstol_s.data()),
