@@ -14,7 +14,8 @@
 //   multitangent_kernels [google-benchmark flags]      wall-clock (Google Benchmark)
 //   multitangent_kernels --count KERNEL TYPE N ITERS   runs one kernel ITERS times between
 //       CALLGRIND_START/STOP_INSTRUMENTATION (valgrind --tool=callgrind --instr-atstart=no)
-// bench/multitangent_table.py runs both and writes the JSON and the table.
+// bench/multitangent_table.py runs both and writes the JSON and the table. Built with
+// -DKANESENS_BENCH=ON (bench/CMakeLists.txt).
 #include <benchmark/benchmark.h>
 #include <valgrind/callgrind.h>
 

@@ -1,14 +1,13 @@
 // One right-hand side pass on double, on Dual (one direction) and on MultiDual<4>/<8> (4/8
 // directions) through the real dynamics, and the exact Jacobian column by column (Dual) vs in
-// blocked multi-tangent passes. Not part of the test gate. After building kanesens_core in build/:
-//   g++ -std=c++20 -O3 -DNDEBUG -DEIGEN_MPL2_ONLY -Isrc -Ibuild/generated -I/usr/include/eigen3 \
-//       bench/tangent_passes.cpp build/libkanesens_core.a -lyaml-cpp -o build/tangent_passes
-//   build/tangent_passes configs/arm_3d.yaml              wall-clock medians and ratios
-//   valgrind --tool=callgrind --instr-atstart=no build/tangent_passes SCENE MODE ITERS
+// blocked multi-tangent passes. Built with -DKANESENS_BENCH=ON (bench/CMakeLists.txt):
+//   build/bench/tangent_passes configs/arm_3d.yaml        wall-clock medians and ratios
+//   valgrind --tool=callgrind --instr-atstart=no build/bench/tangent_passes SCENE MODE ITERS
 //       MODE = rhs | dual | w4 | w8: ITERS passes between CALLGRIND_START/STOP (instructions)
 #include <algorithm>
 #include <cstdlib>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <random>
 #include <string>
