@@ -518,11 +518,9 @@ int run_bench_workprecision(const WpOptions& o) {
   for (double v : (o.rk4_steps.empty() ? std::vector<double>{} : numbers(o.rk4_steps, "--rk4-steps")))
     rk4_steps.push_back(static_cast<long>(std::llround(v)));
 
-  KaneProblem plain(model, {}, study.constraints);
-  plain.set_initial_time(study.output_times.front());
+  KaneProblem plain(model, {}, study.constraints, study.output_times.front());
   plain.set_sample(inputs);
-  KaneProblem with(model, sens_refs, study.constraints);
-  with.set_initial_time(study.output_times.front());
+  KaneProblem with(model, sens_refs, study.constraints, study.output_times.front());
   with.set_sample(inputs);
 
   // Reference.

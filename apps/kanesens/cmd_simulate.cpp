@@ -125,8 +125,7 @@ int run_simulate(const SimulateOptions& o) {
       start = c + 1;
     }
   }
-  KaneProblem problem(m, sens, study.constraints);
-  problem.set_initial_time(study.output_times.front());
+  KaneProblem problem(m, sens, study.constraints, study.output_times.front());
   problem.set_sample(setup.base);
   sim::Integrator integrator(study.solver);
   RecordFlags flags;

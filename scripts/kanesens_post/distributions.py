@@ -1,4 +1,4 @@
-"""Input distributions of a study (the `vary:` section of ../shared/DESIGN.md §5).
+"""Input distributions of a study (the `vary:` section of a study file).
 
 Each Distribution knows its mean and variance (linear UQ), its CDF (to put Morris steps on the
 unit hypercube) and its Poincaré constant C, the smallest C with Var g(X) ≤ C E[g'(X)²] for

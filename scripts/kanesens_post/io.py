@@ -1,4 +1,4 @@
-"""Open a kanesens run file (../shared/DESIGN.md §6) as one lazy xarray.Dataset.
+"""Open a kanesens run file (docs/reference/hdf5.md) as one lazy xarray.Dataset.
 
 What open_run() returns, whatever the file's dimension-scale details:
 

@@ -85,11 +85,7 @@ bool reconstruct_speeds(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& s
                         const S& t, const S* q, const S* ui, S* u) {
   // A and a0 at (q, t): the constraint rows evaluated with u = 0 give A and a0 (= A·0 + a0).
   for (int k = 0; k < m.nu; ++k) sc.tmp[k] = S(0);
-  evaluate_state_expressions(m, ws, t, q, sc.tmp.data());
-  compute_position(m, ws, q);
-  compute_velocity(m, ws, sc.tmp.data());
-  compute_kinematic_derivatives(m, ws, q, sc.tmp.data());
-  compute_constraints(m, ws, q, sc.tmp.data());
+  evaluate_constraints(m, ws, t, q, sc.tmp.data());
   const int nd = static_cast<int>(sets.dependent.size());
   for (int a = 0; a < nd; ++a) {
     const int row = sets.rows[a];

@@ -1,6 +1,7 @@
-// The embedding formulation of constrained systems (seed eq. 1 with constrained partial
-// velocities): only the independent speeds u_i are states. With the constraint rows split by a
-// pivoted factorisation of A into dependent speeds u_d (A_d square, invertible) and u_i,
+// The embedding formulation of constrained systems (Kane's equations with nonholonomic partial
+// velocities, Kane & Levinson, Dynamics: Theory and Applications, 1985): only the independent
+// speeds u_i are states. With the constraint rows split by a pivoted factorisation of A into
+// dependent speeds u_d (A_d square, invertible) and u_i,
 //     u   = C u_i + c,        C = [I; −A_d⁻¹ A_i],  c = [0; −A_d⁻¹ a0]      (permuted)
 //     u̇   = C u̇_i + d,        d = [0;  A_d⁻¹ b],    b = −(Ȧu + ȧ0)
 //     Cᵀ M C u̇_i = Cᵀ (f − M d)

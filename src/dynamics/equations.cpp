@@ -106,6 +106,16 @@ void evaluate_mass_matrix_and_forcing(const Model& m, Workspace<S>& ws, const S&
 }
 
 template <class S>
+void evaluate_constraints(const Model& m, Workspace<S>& ws, const S& t, const S* q, const S* u,
+                          const DynamicsOptions& options) {
+  evaluate_state_expressions(m, ws, t, q, u);
+  compute_position(m, ws, q);
+  compute_velocity(m, ws, u);
+  compute_kinematic_derivatives(m, ws, q, u);
+  compute_constraints(m, ws, q, u, options);
+}
+
+template <class S>
 bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot, const DynamicsOptions& options) {
   const S* q = y;
   const S* u = y + m.nq;
@@ -161,6 +171,8 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
   template void apply_mass_inverse<S>(const Model&, Workspace<S>&, S*);                         \
   template void evaluate_mass_matrix_and_forcing<S>(const Model&, Workspace<S>&, const S&,      \
                                                     const S*, const S*);                        \
+  template void evaluate_constraints<S>(const Model&, Workspace<S>&, const S&, const S*, const S*,   \
+                                        const DynamicsOptions&);                                  \
   template bool evaluate_rhs<S>(const Model&, Workspace<S>&, const S&, const S*, S*,             \
                                 const DynamicsOptions&);                                        \
   template S kinetic_energy<S>(const Model&, const Workspace<S>&);                              \

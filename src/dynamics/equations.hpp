@@ -58,6 +58,12 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws);
 template <class S>
 bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot,
                   const DynamicsOptions& options = {});
+// The constraint rows at (t, q, u), without M and f: state expressions, position, velocity, q̇,
+// then A, the residuals and the bias (compute_constraints). What every constraint-level use
+// evaluates (projection, consistent initial state, the embedding's speeds).
+template <class S>
+void evaluate_constraints(const Model& m, Workspace<S>& ws, const S& t, const S* q, const S* u,
+                          const DynamicsOptions& options = {});
 // Position, velocity, M and f at (t, q, u), without the solve.
 template <class S>
 void evaluate_mass_matrix_and_forcing(const Model& m, Workspace<S>& ws, const S& t, const S* q, const S* u);

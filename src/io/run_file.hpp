@@ -1,4 +1,4 @@
-// The run's HDF5 file (DESIGN §6): one file per `kanesens run`, written by all ranks.
+// The run's HDF5 file: one file per `kanesens run`, written by all ranks.
 //
 // Everything that is metadata (datasets, dimension scales, attributes) is created, filled and
 // flushed by RunFile::create before any sample is written; afterwards only raw data changes,

@@ -1,4 +1,4 @@
-// The schema of the run file (DESIGN §6), in one place: what RunFile::create writes and what
+// The schema of the run file, in one place: what RunFile::create writes and what
 // RunFile::open_for_resume checks. Sizes: N samples, T times, nstate, P, S, C as in RunLayout.
 //
 //   dimension scales (netCDF-4 dimensions; h5netcdf names a dimension after its scale dataset)
@@ -9,7 +9,7 @@
 //     /sensitivity  (sensitivity)   string         [only if sensitivities recorded, S > 0]
 //     /constraint   (constraint)    string         [only if multipliers recorded, C > 0]
 //     /output       (output)        string, names of /outputs/*   [only if any output]
-//   the same names again as plain variables, for readers that use h5py and DESIGN's names:
+//   the same names again as plain variables, for readers that look names up by these keys:
 //     /state_name (state), /parameter_name, /sensitivity_name, /constraint_name, /output_name
 //   per-sample data, chunked by sample, preallocated, filled with NaN (status 0, message "")
 //     /parameters     (sample, parameter)                   float64

@@ -131,7 +131,7 @@ struct Model {
   // q = 0 frames are parallel, so every body then rotates about z only.) Points, gravity, forces
   // and inertias may be anything: a planar motion's power sees only ω_z, v_x, v_y and τ_z, F_x,
   // F_y, so out-of-plane components cannot change M or f. Planar scenes are evaluated with
-  // 3-component spatial vectors (math/planar.hpp): a planar scene pays planar work (DESIGN §2).
+  // 3-component spatial vectors (math/planar.hpp): a planar scene pays planar work.
   bool planar = false;
   // Evaluate with the general 3-D code even when `planar` (tests and benchmarks compare both).
   bool force_general_3d = false;

@@ -287,8 +287,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
 
   SharedCounter next(comm, 0), done(comm, 0);
   const long long npending = opt.resume ? static_cast<long long>(pending.size()) : design.size();
-  KaneProblem problem(model, sens, st.constraints);
-  problem.set_initial_time(st.output_times.front());
+  KaneProblem problem(model, sens, st.constraints, st.output_times.front());
   std::vector<double> outputs;
   sim::Integrator integrator(st.solver);
   Trajectory traj;

@@ -1,4 +1,4 @@
-// The `sampling:` section of a study file (DESIGN.md §5), parsed strictly.
+// The `sampling:` section of a study file, parsed strictly.
 //
 //   sampling: {method: sobol, samples: 1024, seed: 42, randomize: true}
 //

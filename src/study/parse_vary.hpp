@@ -1,4 +1,4 @@
-// The `vary:` section of a study file (DESIGN.md §5): one entry per varied input, in file order
+// The `vary:` section of a study file: one entry per varied input, in file order
 // (the order of the design's columns and of the HDF5 `parameter` dimension).
 //
 //   vary:

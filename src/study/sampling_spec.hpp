@@ -1,4 +1,4 @@
-// What the `sampling:` section of a study file asks for (DESIGN.md §5). Plain data with
+// What the `sampling:` section of a study file asks for. Plain data with
 // defaults; parse_sampling() fills it strictly and Design validates it against the inputs.
 #pragma once
 #include <cstdint>

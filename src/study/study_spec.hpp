@@ -1,7 +1,7 @@
-// A study file (docs/README "Studies"): the scene, output times, solver settings, sensitivities,
-// what to record, and (for `run`) the sampling design and the varied inputs. Plain structs;
-// parse_study_file() fills them strictly. Whether the names it holds (sensitivities, varied
-// inputs, --set values) are inputs of the scene is checked by the study setup (study/setup.hpp).
+// A study file: the scene, output times, solver settings, sensitivities, what to record, and
+// (for `run`) the sampling design and the varied inputs. Plain structs; parse_study_file() fills
+// them strictly. Whether the names it holds (sensitivities, varied inputs, --set values) are
+// inputs of the scene is checked by the study setup (study/setup.hpp).
 #pragma once
 #include <map>
 #include <set>

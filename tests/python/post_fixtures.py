@@ -1,10 +1,10 @@
 """Synthetic kanesens run files for the post-processing tests (and the docs/post examples).
 
-write_run() writes an HDF5 file with the layout of ../shared/DESIGN.md §6 using h5py, the way
-the C++ writer does: every dimension has a dimension scale (so xarray shows named dims),
-names are fixed-length null-padded strings tagged `_Encoding = utf-8`, per-output series live
-in the /outputs group and solver counters in /solver_stats. Designs (Saltelli, Morris) are
-generated here too, so a test can put a closed-form function behind them.
+write_run() writes an HDF5 file with the layout of the run file (docs/reference/hdf5.md) using h5py,
+the way the C++ writer does: every dimension has a dimension scale (so xarray shows named dims),
+names are fixed-length null-padded strings tagged `_Encoding = utf-8`, per-output series live in the
+/outputs group and solver counters in /solver_stats. Designs (Saltelli, Morris) are generated here
+too, so a test can put a closed-form function behind them.
 
 Run as a script to write the example file used for docs/post:
     /usr/bin/python3 tests/python/post_fixtures.py pendulum-saltelli OUT.h5

@@ -89,8 +89,8 @@ def test_free_body_euler_equations():
         assert out["potential_energy"] == 0
 
 
-def test_free_body_reference_values_from_references_md():
-    """REFERENCES.md §5.2: 2E = 4 and |H|^2 = 10 at omega = (1, 0, 1)."""
+def test_free_body_reference_values():
+    """I = diag(1, 2, 3): 2E = 4 and |H|^2 = 10 at omega = (1, 0, 1)."""
     num = numeric("configs/free_body.yaml")
     out = num.evaluate(0.0, [0, 0, 0, 1, 0, 0, 0], [0, 0, 0, 1, 0, 1])
     assert 2 * out["kinetic_energy"] == pytest.approx(4.0, rel=1e-15)

@@ -1,13 +1,14 @@
 // Andrews' squeezing mechanism (configs/andrews.yaml) against the Bari/CWI Test Set for IVP
-// Solvers, problem `andrews` (../shared/REFERENCES.md §1):
-//   (a) M(q), f(q, q̇) at random states against the test set's formulas (§1.2, coded here
+// Solvers, problem `andrews` (Mazzia, Magherini & Iavernaro, Release 2.3, Report 43/2006, Univ.
+// of Bari; the Fortran `andrews.f`, its initial values `init` and reference solution `solut`):
+//   (a) M(q), f(q, q̇) at random states against the test set's formulas (coded here
 //       independently of the scene), and the constraint rows A = G, bias −(∂(Gq̇)/∂q) q̇ and the
 //       residuals g(q);
 //   (b) t = 0, no integration: q̈0 and λ0 against the published 30-digit values (λ_kanesens =
 //       −λ_testset: kanesens M u̇ = f + Aᵀλ, the test set M q̈ = f − Gᵀλ); the consistent-initial-
 //       condition correction of the (already consistent) q0 must be at round-off level;
 //   (c) integration to t = 0.03 with and without projection, against the recomputed reference
-//       (tight) and the published PSIDE reference (the test set's own thresholds, §1.5).
+//       (tight) and the published PSIDE reference (the thresholds its own accuracy allows).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -28,7 +29,7 @@ namespace ks = kanesens::testing;
 
 namespace {
 
-// The 42 published parameters (§1.3), written out again here (not read from the scene).
+// The 42 published parameters, written out again here (not read from the scene).
 struct P {
   double m1 = 0.04325, m2 = 0.00365, m3 = 0.02373, m4 = 0.00706, m5 = 0.07050, m6 = 0.00706, m7 = 0.05498;
   double xa = -0.06934, ya = -0.00227, xb = -0.03635, yb = 0.03273, xc = 0.014, yc = 0.072, c0 = 4530;
@@ -88,7 +89,7 @@ Vec6 testset_g(const P& p, const Vec7& q) {
   return r;
 }
 
-// G as coded in the test set (§1.2).
+// G as coded in the test set.
 Mat67 testset_G(const P& p, const Vec7& q) {
   const double b = q[0], th = q[1], g = q[2], phi = q[3], de = q[4], om = q[5], ep = q[6];
   Mat67 G = Mat67::Zero();
@@ -140,16 +141,19 @@ ks::Model andrews_model() {
   return ks::build_model(ks::parse_scene_file(std::string(KANESENS_SOURCE_DIR) + "/configs/andrews.yaml"));
 }
 
-// Columns of ../shared/reference/andrews_testset_reference.csv, 27 rows.
+// tests/data/andrews_reference.csv (its header says where each column comes from), 27 rows:
+// y0 (the test set's consistent initial values), published (its reference solution at t = 0.03),
+// recomputed (tests/data/andrews_reference.py, SciPy DOP853 at rtol 1e-13).
 struct Reference {
   std::vector<double> y0, published, recomputed;
 };
 Reference read_reference() {
-  const std::string path = std::string(KANESENS_SHARED_DIR) + "/reference/andrews_testset_reference.csv";
+  const std::string path = std::string(KANESENS_SOURCE_DIR) + "/tests/data/andrews_reference.csv";
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot open " + path);
   std::string line;
-  std::getline(in, line);
+  while (std::getline(in, line) && (line.empty() || line[0] == '#')) {
+  }  // comment lines, then the column names
   Reference r;
   while (std::getline(in, line)) {
     if (line.empty()) continue;
@@ -280,7 +284,7 @@ TEST(Andrews, InitialAccelerationsAndMultipliers) {
               ydot[7], worst_lam, lambda[0]);
 }
 
-// §1.7: consistent initial conditions from a perturbed q0. kanesens keeps the first coordinates
+// Consistent initial conditions from a perturbed q0. kanesens keeps the first coordinates
 // and solves for the dependent ones chosen from the last backwards (ε, Ω, δ, Φ, γ, Θ), so β is
 // the independent coordinate — the choice that is regular at Θ = 0, where the β and Θ columns of
 // G are parallel. With β0 unchanged the corrected state must be the test set's q0 again; the
@@ -384,7 +388,7 @@ EndState integrate_to_end(const ks::Model& m, ks::ConstraintOptions::Stabilizati
 // up to ~1.5× (BDF, rtol 1e-10) and ~25× (Adams, rtol 1e-12) with the rounding of the Jacobian
 // alone, so a tolerance tuned to one run fails on any change of operation order), which are also
 // the "own error" added to
-// the published-reference thresholds of §1.5: positions max(1e-8|q|, 1e-10), velocities 1e-7
+// the published-reference thresholds: positions max(1e-8|q|, 1e-10), velocities 1e-7
 // relative, q̈ and λ 1e-5 relative.
 struct Tol {
   double q, v, a;  // absolute positions; relative velocities; relative q̈ and λ
@@ -448,7 +452,7 @@ TEST(Andrews, EndTimeBdfNoStabilizationRtol1e10) {
   EXPECT_LT(e.energy_balance, 3e-7);
 }
 
-// Tight runs: the published thresholds of §1.5 with a small own error.
+// Tight runs: the published-reference thresholds with a small own error.
 TEST(Andrews, EndTimeBdfProjectionRtol1e13) {
   const EndState e = integrate_to_end(andrews_model(), Stab::projection, Method::bdf, 1e-13, 1e-15);
   compare_end("BDF, projection, rtol 1e-13", e, read_reference(), {3e-9, 1e-7, 1e-7});

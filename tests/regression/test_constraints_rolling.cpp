@@ -1,7 +1,9 @@
-// The `rolling` constraint (a disc of radius r on a plane, no slip) against REFERENCES.md §4.1 and
-// §4.3, and the constraint bias −(Ȧu) of every constraint kind against a finite difference.
+// The `rolling` constraint (a disc of radius r on a plane, no slip) against SymPy's rolling disc
+// (sympy/physics/mechanics/tests/test_linearize.py, test_linearize_rolling_disc_kane) and the
+// closed form for rolling down an incline, and the constraint bias −(Ȧu) of every constraint kind
+// against a finite difference.
 //
-// Mapping of SymPy's rolling disc (§4.1) to our frames. SymPy: N.z down, gravity +g N.z,
+// Mapping of SymPy's rolling disc to our frames. SymPy: N.z down, gravity +g N.z,
 // A = rot(q1 about N.z), B = rot(q2 about A.x), C = rot(q3 about B.y), disc axis B.y, contact
 // P = CO + r B.z. Ours: world W with z up, gravity −g W.z. Take N.x = W.x, N.y = −W.y,
 // N.z = −W.z (a rotation by π about x: T = diag(1, −1, −1)), and the disc's body frame = C. Then
@@ -14,7 +16,8 @@
 // Rolling: v_CO = ω × (CO − P) = −r ω × B.z = −r u2 B.x + r u1 B.y = (−r u2, 0, 0).
 // Steady turning (u̇1 = 0): ½ sin(2q2) q̇1² + (6/5) cos q2 q̇3 q̇1 + 4 g sin q2 /(5r) = 0; for
 // q2 = 0.3, q̇3 = 4, r = m = 1, g = 9.81 the roots are q̇1 = −0.52257787531129441459 and
-// −15.719966261444493993 (REFERENCES: SymPy model, q2 constant to 8e-16 over 5 s).
+// −15.719966261444493993 (an independent SymPy KanesMethod model keeps q2 constant to 8e-16
+// over 5 s).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -51,7 +54,8 @@ scene:
   return buf;
 }
 
-// Steady turning: (q0, u0) of the free joint for lean q2 and spin rate q̇3, yaw rate from §4.1.
+// Steady turning: (q0, u0) of the free joint for lean q2 and spin rate q̇3, yaw rate from
+// SymPy's u̇1.
 struct Steady {
   std::vector<double> q0, u0;
   double yaw_rate;
@@ -137,7 +141,7 @@ TEST(RollingDisc, SteadyTurningStaysSteady) {
 
 TEST(RollingDisc, PerturbedSteadyTurningDrifts) {
   // The test above would also pass for a disc that does not move at all; a 1 % error in the
-  // yaw rate must make the lean oscillate (REFERENCES §4.1: 1.5e-3 over 5 s).
+  // yaw rate must make the lean oscillate (by 1.5e-3 over 5 s in an independent SymPy model).
   Steady s = steady_turning(0.3, 4, true);
   const double q1d = s.yaw_rate * 1.01, u2 = 4 + q1d * std::sin(0.3), u3 = q1d * std::cos(0.3);
   s.u0 = {-u2, 0, 0, 0, u2, u3};

@@ -1,22 +1,24 @@
 // Tests of solve/integrator against hand-written OdeProblems:
-// - damped oscillator sensitivities against the analytic reference (REFERENCES.md §5.1),
+// - damped oscillator sensitivities against the closed form,
 //   for every sensitivity method, exact and DQ sensitivity RHS;
 // - failures are statuses with messages (throwing, NaN, too much work), not crashes;
 // - method/Jacobian variants agree; one Integrator reused equals fresh ones.
 #include <cvodes/cvodes.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
-#include <fstream>
+#include <complex>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "closed_forms.hpp"
 #include "sim/solve/integrator.hpp"
 
 namespace ks = kanesens::sim;
+namespace kt = kanesens::testing;
 
 namespace {
 
@@ -107,22 +109,13 @@ struct ReferenceRow {
   double v[6];  // x, dx/dx0, dx/dv0, dx/dm, dx/dc, dx/dk
 };
 
-std::vector<ReferenceRow> read_reference() {
-  const std::string path =
-      std::string(KANESENS_SHARED_DIR) + "/reference/damped_oscillator_sensitivities.csv";
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  std::string line;
-  std::getline(in, line);  // header t,x,dx_dx0,dx_dv0,dx_dm,dx_dc,dx_dk
+// The closed form at t = 0.5, 1, 2, 5, 10 for m = 1, c = 0.4, k = 4 (ωn = 2, ζ = 0.1), x0 = 1,
+// v0 = 0 (tests/support/closed_forms.hpp; checked below by complex-step differentiation).
+std::vector<ReferenceRow> closed_form_reference() {
   std::vector<ReferenceRow> rows;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    std::istringstream ss(line);
-    ReferenceRow r{};
-    char comma = 0;
-    ss >> r.t;
-    for (double& v : r.v) ss >> comma >> v;
-    if (!ss) throw std::runtime_error("bad line in " + path + ": " + line);
+  for (double t : {0.5, 1.0, 2.0, 5.0, 10.0}) {
+    const kt::OscillatorSolution s = kt::damped_oscillator(t, 1, 0, 1, 0.4, 4);
+    ReferenceRow r{t, {s.x, s.dx[0], s.dx[1], s.dx[2], s.dx[3], s.dx[4]}};
     rows.push_back(r);
   }
   return rows;
@@ -173,6 +166,43 @@ ks::SolverOptions tight() {
 
 // ---------- 1. analytic sensitivities ----------
 
+// The reference itself: the hand-derived sensitivities against complex-step derivatives of x(t)
+// (Squire & Trapp 1998: ∂x/∂p = Im x(p + ih)/h, no cancellation, exact to round-off), and x(t)
+// against the equation of motion and the initial conditions.
+TEST(DampedOscillatorClosedForm, SensitivitiesAndEquationOfMotion) {
+  using C = std::complex<double>;
+  const double h = 1e-30;
+  double worst_sens = 0, worst_residual = 0;
+  for (const double t : {0.0, 0.5, 1.0, 2.0, 5.0, 10.0, 17.3}) {
+    for (const auto& p : {std::array<double, 5>{1, 0, 1, 0.4, 4},
+                          std::array<double, 5>{0.3, -0.7, 1.7, 0.9, 5.5}}) {
+      const kt::OscillatorSolution s = kt::damped_oscillator(t, p[0], p[1], p[2], p[3], p[4]);
+      EXPECT_DOUBLE_EQ(s.x, kt::damped_oscillator_x(t, p[0], p[1], p[2], p[3], p[4]));
+      for (int j = 0; j < 5; ++j) {
+        C pc[5] = {p[0], p[1], p[2], p[3], p[4]};
+        pc[j] += C(0, h);
+        const double cs = kt::damped_oscillator_x(C(t), pc[0], pc[1], pc[2], pc[3], pc[4]).imag() / h;
+        worst_sens = std::max(worst_sens, std::abs(s.dx[j] - cs) / std::max(std::abs(cs), 1e-2));
+      }
+      // ẋ by complex step in t, ẍ by a central difference of ẋ: m ẍ + c ẋ + k x = 0.
+      auto xdot = [&](double tt) {
+        return kt::damped_oscillator_x(C(tt, h), C(p[0]), C(p[1]), C(p[2]), C(p[3]), C(p[4])).imag() / h;
+      };
+      const double d = 1e-5, xdd = (xdot(t + d) - xdot(t - d)) / (2 * d);
+      worst_residual = std::max(worst_residual, std::abs(p[2] * xdd + p[3] * xdot(t) + p[4] * s.x));
+      if (t == 0) {
+        EXPECT_DOUBLE_EQ(s.x, p[0]);
+        EXPECT_NEAR(xdot(0), p[1], 1e-15);
+      }
+    }
+  }
+  std::printf("[ measure  ] oscillator closed form: hand vs complex-step sensitivities %.1e, "
+              "|m x'' + c x' + k x| %.1e\n",
+              worst_sens, worst_residual);
+  EXPECT_LT(worst_sens, 1e-13);
+  EXPECT_LT(worst_residual, 1e-8);
+}
+
 struct SensCase {
   ks::SensitivityMethod method;
   ks::SensitivityRhs rhs;
@@ -181,7 +211,7 @@ struct SensCase {
 class OscillatorSensitivities : public ::testing::TestWithParam<SensCase> {};
 
 TEST_P(OscillatorSensitivities, MatchAnalyticReference) {
-  const auto ref = read_reference();
+  const auto ref = closed_form_reference();
   ASSERT_EQ(ref.size(), 5u);
   // CVODES's DQ sensitivities perturb y by about the local error tolerance, so their roundoff
   // is ~ eps/rtol relative: they break down below rtol ~ 1e-9 (docs/solve.md). Exact: rtol
@@ -238,7 +268,7 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 TEST(Integrator, ErrorShrinksWithTolerance) {
-  const auto ref = read_reference();
+  const auto ref = closed_form_reference();
   double previous = 1;
   for (double rtol : {1e-6, 1e-8, 1e-10}) {
     ks::SolverOptions o;
@@ -256,7 +286,7 @@ TEST(Integrator, ErrorShrinksWithTolerance) {
 }
 
 TEST(Integrator, SensitivitySSTolerances) {
-  const auto ref = read_reference();
+  const auto ref = closed_form_reference();
   ks::SolverOptions o = tight();
   o.sens_atol = 1e-12;
   Oscillator osc;
@@ -268,7 +298,7 @@ TEST(Integrator, SensitivitySSTolerances) {
 // ---------- 5. variants agree ----------
 
 TEST(Integrator, AdamsAndBdfAgree) {
-  const auto ref = read_reference();
+  const auto ref = closed_form_reference();
   const auto times = reference_times(ref);
   Oscillator a, b, c;
   const Trajectory bdf = run(tight(), a, times);
@@ -292,7 +322,7 @@ TEST(Integrator, AdamsAndBdfAgree) {
 }
 
 TEST(Integrator, ExactAndDqJacobianAgree) {
-  const auto times = reference_times(read_reference());
+  const auto times = reference_times(closed_form_reference());
   Oscillator a, b;
   const Trajectory exact = run(tight(), a, times);
   ks::SolverOptions o = tight();
@@ -577,7 +607,7 @@ TEST(IntegratorConfig, PerStateAtolAndSingleOutput) {
   const Trajectory one = run(o, osc, {0.0});
   ASSERT_TRUE(one.result.ok());
   EXPECT_EQ(one.result.outputs_recorded, 1);
-  const auto ref = read_reference();
+  const auto ref = closed_form_reference();
   const Trajectory tr = run(o, osc, reference_times(ref));
   ASSERT_TRUE(tr.result.ok());
   EXPECT_LT(max_rel_error(tr, ref), 3e-8);

@@ -1,4 +1,4 @@
-// The hot path allocates nothing (DESIGN §2, STYLE 6): evaluate_rhs and
+// The hot path allocates nothing: evaluate_rhs and
 // evaluate_mass_matrix_and_forcing on double, Dual and the multi-tangent MultiDual, and the
 // solvers' callbacks of KaneProblem (rhs, Jacobian, all sensitivity right-hand sides at once),
 // counted by replacing the global operator new for this test program.

@@ -85,7 +85,7 @@ CallbackData& data_of(void* user_data) {
   return *static_cast<CallbackData*>(user_data);
 }
 
-// --- nothrow trampolines: exceptions never cross into C (STYLE.md item 7) ---
+// --- nothrow trampolines: exceptions never cross into C ---
 
 int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept {
   CallbackData& cb = data_of(user_data);

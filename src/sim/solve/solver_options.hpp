@@ -1,5 +1,5 @@
-// CVODES settings (DESIGN.md §5 `solver:`). Plain struct with defaults; validate() checks it
-// against the problem size and throws std::invalid_argument naming the field.
+// CVODES settings (the study file's `solver:` section). Plain struct with defaults; validate()
+// checks it against the problem size and throws std::invalid_argument naming the field.
 #pragma once
 #include <optional>
 #include <string_view>
