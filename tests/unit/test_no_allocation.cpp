@@ -143,8 +143,8 @@ TEST(NoAllocation, SolverCallbacks) {
     SCOPED_TRACE(c.name);
     const Model m = build_model(parse_scene_text(c.text, "scene.yaml"));
     std::vector<InputRef> refs;
-    for (int i = 0; i < m.nparam() && i < 5; ++i) refs.push_back({InputRef::Kind::parameter, i});
-    refs.push_back({InputRef::Kind::initial_condition, 0});
+    for (int i = 0; i < m.nparam() && i < 5; ++i) refs.push_back({InputRef::Kind::parameter, i, m.parameters[static_cast<std::size_t>(i)].name});
+    refs.push_back({InputRef::Kind::initial_condition, 0, "q0"});
     KaneProblem p(m, refs);
     p.set_sample(SampleInputs(m));
     const int n = p.size(), ns = static_cast<int>(refs.size());

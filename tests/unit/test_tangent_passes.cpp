@@ -77,7 +77,7 @@ TEST(TangentPasses, JacobianAndSensitivitiesMatchSingleTangentPasses) {
     {
       // One Dual pass per column: the sensitivity RHS of a direction with no parameter tangent.
       std::vector<InputRef> ic;
-      for (int j = 0; j < n; ++j) ic.push_back({InputRef::Kind::initial_condition, 0});
+      for (int j = 0; j < n; ++j) ic.push_back({InputRef::Kind::initial_condition, 0, "y0"});
       KaneProblem cols(m, ic, c.constraints);
       cols.set_sample(SampleInputs(m));
       std::vector<double> e(static_cast<std::size_t>(n));
