@@ -13,6 +13,7 @@
 #include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <span>
 
 #include "io/run_file.hpp"
 #include "parallel/mpi_session.hpp"
@@ -89,7 +90,9 @@ double estimate_file_bytes(const io::RunLayout& l) {
   const double values = static_cast<double>(l.parameter_names.size()) + n + (l.record_states ? T * n : 0.0) +
                         T * n * S + static_cast<double>(l.output_names.size()) * T +
                         static_cast<double>(l.stat_names.size());
-  const double per_sample = 8.0 * values + static_cast<double>(io::RunFile::message_size) + 4.0 + 8.0;
+  const double labels = l.design_labels ? 3 * 8.0 : 0.0;
+  const double per_sample =
+      8.0 * values + static_cast<double>(io::RunFile::message_size) + 4.0 + 8.0 + labels;
   double text = 0;
   for (const auto& [k, v] : l.text_attributes) text += static_cast<double>(k.size() + v.size());
   return static_cast<double>(l.nsamples) * per_sample + 8.0 * T + text + (1 << 20);  // + 1 MiB of HDF5 metadata
@@ -179,6 +182,26 @@ std::vector<std::string> set_arguments(const RunOptions& opt) {
   return set;
 }
 
+// The design's run labels and input distributions as the run file stores them.
+io::DesignLabels run_labels(const study::Design& design) {
+  return [design](std::int64_t first, std::span<std::int64_t> block, std::span<std::int64_t> row,
+                  std::span<std::int64_t> input) {
+    for (std::size_t k = 0; k < block.size(); ++k) {
+      const study::RunLabel label = design.run_label(first + static_cast<std::int64_t>(k));
+      block[k] = label.block;
+      row[k] = label.row;
+      input[k] = label.input;
+    }
+  };
+}
+
+io::InputDistribution input_distribution(const study::VariedInput& in) {
+  io::InputDistribution d{in.name, std::string(in.dist.kind_name()), {}, {}};
+  for (const auto& [key, value] : in.dist.named_parameters()) d.parameters.emplace_back(key, value);
+  if (const auto* choice = std::get_if<study::Choice>(&in.dist.params)) d.values = choice->values;
+  return d;
+}
+
 // Everything a run needs before it touches the output file: the study setup (which validates
 // the study and throws InputError for bad input) and the file layout.
 struct Prepared {
@@ -226,6 +249,8 @@ struct Prepared {
       layout.number_attributes["morris_levels"] = static_cast<double>(design.spec().morris_levels);
       layout.number_attributes["morris_delta"] = design.morris_delta();
     }
+    if (design.has_run_labels()) layout.design_labels = run_labels(design);
+    for (const auto& in : design.inputs()) layout.distributions.push_back(input_distribution(in));
   }
 
   study::StudySetup setup;

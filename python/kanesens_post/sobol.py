@@ -1,7 +1,8 @@
 """Variance-based (Sobol') indices from a Saltelli design.
 
 Design (see io.design): N base points, each a block of P+2 runs A_j, B_j, AB_j^(1..P), where
-AB_j^(i) is A_j with input i taken from B_j. With y centred by its design mean,
+AB_j^(i) is A_j with input i taken from B_j; `kanesens run` labels every run with its block and
+row (/design_block, /design_row). With y centred by its design mean,
 
     V      = Var over the 2N runs of A and B                       (total variance)
     V_i    = 1/N Σ_j y(B_j) (y(AB_j^(i)) − y(A_j))                   Saltelli et al. 2010, Table 2 (b)
@@ -19,15 +20,18 @@ from .io import Design, RunFileError, response, time_index
 
 
 def saltelli_blocks(des: Design, y: np.ndarray):
-    """Arrange runs as (N, P+2, ...) blocks, check the design is the Saltelli one, drop blocks
-    with any NaN (failed run) in y. Returns (blocks, n_dropped)."""
+    """Arrange runs as (N, p+2, ...) blocks [A_j, B_j, AB_j^(i) for the p reported inputs],
+    check the design is the Saltelli one, drop blocks with any NaN (failed run) in y.
+    Returns (blocks, n_dropped)."""
     p = len(des.names)
     if des.method != "saltelli":
         raise RunFileError(f"sobol needs a Saltelli design; this run's sampling_method is "
                            f"'{des.method}'")
-    index = des.block_index(p + 2, "Saltelli")
+    # A block holds AB^(k) for every design column, fixed inputs included; keep the reported ones.
+    index = des.block_index(len(des.columns) + 2, "Saltelli")
+    index = index[:, [0, 1] + [2 + des.columns.index(n) for n in des.names]]
     nblock = index.shape[0]
-    x = des.x[index]                                     # (N, P+2, P)
+    x = des.x[index]                                     # (N, p+2, p)
     a, b = x[:, 0], x[:, 1]
     for i in range(p):
         expected = a.copy()

@@ -1,4 +1,7 @@
-"""Input distributions of a study (the `vary:` section of a study file).
+"""Input distributions of a run: what the study's `vary:` section asked for, as `kanesens run`
+records it in the run file's /vary group (one group per input, its attributes `distribution`
+and the parameters under their study-file keys: low, high, mean, std, mu, sigma, mode, values,
+value).
 
 Each Distribution knows its mean and variance (linear UQ), its CDF (to put Morris steps on the
 unit hypercube) and its Poincaré constant C, the smallest C with Var g(X) ≤ C E[g'(X)²] for
@@ -17,7 +20,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import yaml
 
 KINDS = {"uniform": ("low", "high"), "normal": ("mean", "std"),
          "truncnormal": ("mean", "std", "low", "high"), "lognormal": ("mu", "sigma"),
@@ -25,7 +27,7 @@ KINDS = {"uniform": ("low", "high"), "normal": ("mean", "std"),
 
 
 class StudyError(ValueError):
-    """The study text has a `vary:` entry this package cannot read."""
+    """A distribution this package cannot read (unknown kind, missing parameter)."""
 
 
 @dataclass(frozen=True)
@@ -109,9 +111,18 @@ def parse_vary(vary: dict) -> dict:
     return out
 
 
+def from_attributes(vary: dict) -> dict:
+    """{name: Distribution} from the /vary group ({name: {"distribution": kind, key: value}},
+    as io.open_run puts it in ds.attrs["vary"])."""
+    return parse_vary({name: {("dist" if k == "distribution" else k): v for k, v in attrs.items()}
+                       for name, attrs in (vary or {}).items()})
+
+
 def from_study_yaml(text: str) -> dict:
-    """Distributions of the study whose exact text is the run's `study_yaml` attribute."""
+    """Distributions of a run file written before /vary existed: the `vary:` section of the
+    study text in its `study_yaml` attribute."""
     if not text:
         return {}
+    import yaml  # only for such files
     study = yaml.safe_load(text) or {}
     return parse_vary(study.get("vary") if isinstance(study, dict) else None)

@@ -5,12 +5,12 @@
 # test_hdf5_text) must not leak. tests/lsan.supp suppresses leaks inside third-party internals
 # only (Open MPI / PMIx / hwloc start-up); kanesens's own handles are never suppressed.
 # Only the unit-test targets are built (see docs/reliability.md for the CI time budget).
-# Extra arguments go to ctest, e.g. scripts/sanitize.sh -R BadInput
+# Extra arguments go to ctest, e.g. tools/sanitize.sh -R BadInput
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${KANESENS_ASAN_BUILD_DIR:-$root/build-asan}
 start=$(date +%s)
-bash "$root/scripts/install-deps.sh" >/dev/null
+bash "$root/tools/install-deps.sh" >/dev/null
 if [[ ! -f $build/CMakeCache.txt ]]; then
   cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DKANESENS_SANITIZE=ON -DKANESENS_WERROR=ON >/dev/null
 fi

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Initial joint angles that start a stiff-spring chain on its slow manifold (to first order).
 
-    /usr/bin/python3 scripts/chain_slow_start.py SCENE.yaml [--kanesens build/kanesens]
+    /usr/bin/python3 bench/chain_slow_start.py SCENE.yaml [--kanesens build/kanesens]
 
 For a chain whose first joint is free and whose other joints carry stiff springs
 (scripts/gen_chain.py N --spring K --damper C --free-first), released from rest at the scene's

@@ -13,8 +13,10 @@ What open_run() returns, whatever the file's dimension-scale details:
             solver_stats_<name> (sample)            from /solver_stats/<name>: not masked (the
                                                     counters of a failed sample say how it failed)
             status (sample), message (sample)
-            design_block, design_row (sample)       only if the file has them (see design())
-    attrs   the root attributes, text ones decoded to str
+            design_block, design_row, design_input (sample)
+                                                    Saltelli and Morris labels (see design())
+    attrs   the root attributes, text ones decoded to str, and
+            vary: {input: {"distribution": kind, parameter: value, ...}} from the /vary group
 
 Nothing is read until asked for: result variables are wrapped in a lazy masking array, so
 `ds.states.isel(time=-1)` reads one time slice of every sample and nothing else.
@@ -38,6 +40,9 @@ NAME_VARIABLES = {"state_name": "state", "parameter_name": "parameter",
 RESULT_VARIABLES = ("states", "multipliers", "sensitivities")
 OUTPUT_PREFIX = "output_"
 STATS_PREFIX = "solver_stats_"
+#: per-sample design labels (Saltelli, Morris) and the group of input distributions
+DESIGN_LABELS = ("design_block", "design_row", "design_input")
+VARY_GROUP = "vary"
 
 
 class RunFileError(ValueError):
@@ -128,8 +133,33 @@ def open_run(path) -> xr.Dataset:
     if "message" in ds.variables:
         ds["message"] = ("sample", [str(_text(m)) for m in ds["message"].values])
     ds.attrs = {k: _text(v) for k, v in ds.attrs.items()}
+    vary = _vary(path)
+    if vary is not None:
+        ds.attrs["vary"] = vary
     ds["time"].attrs.setdefault("units", "s")
     return ds
+
+
+def _vary(path):
+    """{input: {"distribution": kind, parameter: value}} from /vary/<input> (one group per
+    varied input, its attributes), or None for a file written without the group."""
+    import h5py
+    with h5py.File(path, "r") as f:
+        group = f.get(VARY_GROUP)
+        if not isinstance(group, h5py.Group):
+            return None
+        out = {}
+        for name, sub in group.items():
+            spec = {}
+            for key, value in sub.attrs.items():
+                value = _text(value)
+                if isinstance(value, np.ndarray):
+                    value = value.astype(float).tolist()
+                elif isinstance(value, np.generic):
+                    value = value.item()
+                spec[key] = value
+            out[name] = spec
+        return out
 
 
 def output_names(ds: xr.Dataset) -> list[str]:
@@ -174,25 +204,37 @@ def time_index(ds: xr.Dataset, t: float) -> int:
 class Design:
     """The sampled inputs and their arrangement.
 
-    method: root attribute sampling_method (saltelli, morris, mc, ...)
-    names:  the varied inputs (design columns), in /parameter_name order
-    x:      (sample, P) their values
-    block:  (sample,) Saltelli base point j / Morris trajectory index
-    row:    (sample,) row inside the block: Saltelli 0 = A_j, 1 = B_j, 1 + i = AB_j^(i)
-            (A_j with input i taken from B_j), i = 1..P; Morris 0..P along the trajectory
-    dists:  {name: Distribution} from the study's `vary:` section ({} if the file has none)
+    method:  root attribute sampling_method (saltelli, morris, mc, ...)
+    columns: every input of the design, in /parameter_name order (`fixed` ones included)
+    names:   the inputs the analyses report: the columns without `fixed` ones
+    x:       (sample, len(names)) their values
+    block:   (sample,) Saltelli base point j / Morris trajectory t (other designs: the sample)
+    row:     (sample,) run inside the block: Saltelli 0 = A_j, 1 = B_j, 2 + k = AB_j^(k) (A_j
+             with column k taken from B_j, k = 0..P−1 over `columns`); Morris step 0..P
+    moved:   (sample,) the column k that the run changes: Saltelli AB_j^(k), the input a Morris
+             step moved; −1 for A_j, B_j, a trajectory's start and other designs (−2: a step
+             that changed more than one input, only when inferred from the values)
+    dists:   {name: Distribution} ({} if unknown)
+    labels:  where block/row/moved come from: "file" (/design_block, /design_row,
+             /design_input), "row order" (a file without them: blocks of P+2 Saltelli runs,
+             trajectories of P+1 Morris runs, moves from the value changes) or "none"
     """
     method: str
+    columns: list
     names: list
     x: np.ndarray
     block: np.ndarray
     row: np.ndarray
+    moved: np.ndarray
     dists: dict
+    labels: str
 
     def block_index(self, size: int, what: str) -> np.ndarray:
         """(nblock, size) run indices, row by row; a missing or extra run is an error."""
         nblock = int(self.block.max()) + 1
         index = np.full((nblock, size), -1)
+        if (self.row < 0).any() or (self.row >= size).any():
+            raise RunFileError(f"{what} design: /design_row outside 0..{size - 1}")
         index[self.block, self.row] = np.arange(self.block.size)
         if (index < 0).any() or self.block.size != nblock * size:
             raise RunFileError(f"{what} design incomplete: {self.block.size} runs for {nblock} "
@@ -200,30 +242,63 @@ class Design:
         return index
 
 
+def _distributions(ds: xr.Dataset) -> dict:
+    """{name: Distribution} from the file's /vary group; files written without it (older
+    kanesens) fall back to the `vary:` section of the study text in study_yaml."""
+    if "vary" in ds.attrs:
+        return distributions.from_attributes(ds.attrs["vary"])
+    return distributions.from_study_yaml(ds.attrs.get("study_yaml", ""))
+
+
+def _moves_from_values(x: np.ndarray, width: int) -> np.ndarray:
+    """Morris labels of a file without /design_input: the column whose value changed from the
+    previous run of the trajectory (−1: none changed, e.g. a fixed input; −2: several did)."""
+    moved = np.full(x.shape[0], -1)
+    steps = np.arange(x.shape[0]) % width != 0
+    changed = np.abs(np.diff(x, axis=0, prepend=x[:1])) > 1e-12 * (1 + np.abs(x))
+    count = changed.sum(axis=1)
+    moved[steps & (count == 1)] = changed.argmax(axis=1)[steps & (count == 1)]
+    moved[steps & (count > 1)] = -2
+    return moved
+
+
 def design(ds: xr.Dataset) -> Design:
-    """Read the design. Block labels come from /design_block and /design_row when the file has
-    them; otherwise Saltelli runs are taken as blocks of P+2 consecutive rows per base point and
-    Morris runs as trajectories of P+1 consecutive rows."""
+    """Read the design: labels from /design_block, /design_row and /design_input (written by
+    `kanesens run` for Saltelli and Morris designs), distributions from /vary. Files written
+    before those existed are still read: Saltelli runs as blocks of P+2 consecutive rows per
+    base point, Morris runs as trajectories of P+1 consecutive rows, the distributions from the
+    study text."""
     method = str(ds.attrs.get("sampling_method", "")).lower()
-    dists = distributions.from_study_yaml(ds.attrs.get("study_yaml", ""))
-    all_names = [str(n) for n in ds["parameter"].values]
+    dists = _distributions(ds)
+    columns = [str(n) for n in ds["parameter"].values]
     params = np.asarray(ds["parameters"].values, dtype=float)
-    varied = [n for n in all_names if n in dists and dists[n].kind != "fixed"] if dists \
-        else all_names
-    if not varied:
-        varied = all_names
-    x = params[:, [all_names.index(n) for n in varied]]
-    ns, p = x.shape
-    if "design_block" in ds and "design_row" in ds:
+    names = [n for n in columns if not (n in dists and dists[n].kind == "fixed")] or columns
+    x = params[:, [columns.index(n) for n in names]]
+    ns, p = params.shape
+    if all(label in ds for label in DESIGN_LABELS):
+        block, row, moved = (np.asarray(ds[label].values, dtype=np.int64) for label in DESIGN_LABELS)
+        labels = "file"
+    elif "design_block" in ds and "design_row" in ds:  # labels without moves (older writers)
         block = np.asarray(ds["design_block"].values, dtype=np.int64)
         row = np.asarray(ds["design_row"].values, dtype=np.int64)
-    else:
-        size = {"saltelli": p + 2, "morris": p + 1}.get(method, 1)
+        moved = np.where(row >= 2, row - 2, -1)
+        if method == "morris":
+            order = np.lexsort((row, block))
+            moved[order] = _moves_from_values(params[order], p + 1)
+        labels = "file"
+    elif method in ("saltelli", "morris"):
+        size = p + 2 if method == "saltelli" else p + 1
         if ns % size:
             raise RunFileError(f"{ns} samples do not form {method} blocks of {size} rows "
-                               f"(P = {p} varied inputs: {', '.join(varied)})")
+                               f"(P = {p} design inputs: {', '.join(columns)})")
         block, row = np.divmod(np.arange(ns), size)
-    return Design(method, varied, x, block, row, dists)
+        moved = np.where(row >= 2, row - 2, -1) if method == "saltelli" else \
+            _moves_from_values(params, size)
+        labels = "row order"
+    else:
+        block, row, moved = np.arange(ns), np.zeros(ns, np.int64), np.full(ns, -1)
+        labels = "none"
+    return Design(method, columns, names, x, block, row, moved, dists, labels)
 
 
 def input_gradient(ds: xr.Dataset, des: Design, name: str, k=None):

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Speed against accuracy: kanesens vs SymPy KanesMethod + SciPy solve_ivp (docs/peers.md).
 
-    /usr/bin/python3 scripts/bench_peers_sympy.py [--ns 2,4,8] [--out docs/peers]
+    /usr/bin/python3 bench/bench_peers_sympy.py [--ns 2,4,8] [--out docs/peers]
         [--kanesens build/kanesens] [--budget 20] [--reps 3] [--rtols 1e-3,...,1e-11]
 
 The problem: the planar N-link chain of scripts/gen_chain.py (uniform rods, revolute joints
@@ -55,6 +55,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests" / "sympy"))
 sys.path.insert(0, str(ROOT / "scripts"))
 import kane_reference as kr  # noqa: E402
+from common import max_err, time_at  # noqa: E402
 from gen_chain import chain_yaml  # noqa: E402
 from sympy.physics.mechanics import msubs  # noqa: E402
 
@@ -115,27 +116,6 @@ def kanesens_run(exe, study, method, rtol, atol):
             "y0": out["states"][0], "status": out.get("status", 0), "message": out.get("message", ""),
             "nfev": st.get("rhs_evals"), "steps": st.get("steps"), "njev": st.get("jacobian_evals"),
             "state_names": out["state_names"]}
-
-
-def max_err(y, ref):
-    return float(np.max(np.abs(np.asarray(y) - np.asarray(ref))))
-
-
-def time_at(points, target):
-    """Time to reach error <= target on a sweep [(rtol, err, time)] ordered loose -> tight:
-    log-log interpolation between the last point above and the first point at or below."""
-    prev = None
-    for rtol, err, t in points:
-        if err <= target:
-            if prev is None:
-                return t, "<="            # already the loosest tolerance reaches it
-            e0, t0 = prev
-            if e0 == err:
-                return t, "="
-            a = (math.log(target) - math.log(e0)) / (math.log(err) - math.log(e0))
-            return math.exp(math.log(t0) + a * (math.log(t) - math.log(t0))), "="
-        prev = (err, t)
-    return None, "not reached"
 
 
 def main():

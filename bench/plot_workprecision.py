@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Work-precision diagrams from `kanesens bench workprecision --json` output.
 
-    /usr/bin/python3 scripts/plot_workprecision.py RESULT.json [RESULT2.json ...] \
+    /usr/bin/python3 bench/plot_workprecision.py RESULT.json [RESULT2.json ...] \
         [-o docs/workprecision] [--error final_rel_error] [--work wall_seconds]
 
 One PNG per JSON file (named after the file: chain4.json -> chain4.png): error on x, work on y,

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Speed against accuracy on the four-bar: kanesens vs SymPy KanesMethod + SciPy solve_ivp (docs/peers.md).
 
-    /usr/bin/python3 scripts/bench_peers_fourbar_sympy.py [--out docs/peers]
+    /usr/bin/python3 bench/bench_peers_fourbar_sympy.py [--out docs/peers]
         [--kanesens build/kanesens] [--budget 20] [--reps 3] [--rtols 1e-3,...,1e-14]
     quick smoke test: ... --out /tmp/fourbar_sympy --rtols 1e-4,1e-6 --reps 1
 
@@ -21,7 +21,7 @@ conservative), integrated over t in [0, 10]; the crank goes round 16.6 times (q1
   |g| and |A u| are recorded. rtol swept, atol = rtol * 1e-2 (SciPy raises rtol < 100 eps to
   2.2e-14, recorded as rtol_effective); Radau and LSODA use SciPy's finite-difference
   Jacobians. Time: wall time of the solve_ivp call.
-* kanesens: `kanesens simulate` of a study with the same scene (scripts/fourbar_kanesens.py),
+* kanesens: `kanesens simulate` of a study with the same scene (bench/fourbar_kanesens.py),
   six (method, constraint treatment) variants: BDF + multipliers + projection (the default),
   Adams + multipliers + Baumgarte (CVODES projects only with BDF), Adams + embedding (state
   [q; u1], no stabilization), BDF + embedding + projection, and the explicit Runge–Kutta
@@ -70,11 +70,11 @@ from scipy.integrate import solve_ivp
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests" / "sympy"))
-sys.path.insert(0, str(ROOT / "scripts"))
 import four_bar_kane as fb  # noqa: E402
 import four_bar_quadrature  # noqa: E402
 import fourbar_kanesens as fk  # noqa: E402
-from bench_peers_sympy import max_err, now, time_at  # noqa: E402  (the chain bench's conventions)
+from bench_peers_sympy import now  # noqa: E402  (the chain bench's conventions)
+from common import max_err, time_at  # noqa: E402
 
 SCIPY_METHODS = ["RK45", "DOP853", "Radau", "LSODA"]
 # (method, formulation, stabilization), see fourbar_kanesens.LABELS.

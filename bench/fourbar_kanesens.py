@@ -1,6 +1,6 @@
 """kanesens runs of the four-bar (configs/four_bar.yaml) for the four-bar peer benches.
 
-Shared by scripts/bench_peers_fourbar.sh and scripts/bench_peers_fourbar_sympy.py: one study
+Shared by bench/bench_peers_fourbar.py and bench/bench_peers_fourbar_sympy.py: one study
 file, one way to run `kanesens simulate` with a (method, constraint formulation, stabilization)
 variant at a tolerance, and the variants' names.
 
