@@ -2,7 +2,9 @@
 // takes at a random fixed state (seeded, so runs are comparable):
 //   rhs       evaluate_rhs on double: M, f, Cholesky solve, q̇          (what CVODES calls)
 //   mf        evaluate_mass_matrix_and_forcing on double: M and f alone
-//   jacobian  the exact Jacobian ∂ẏ/∂y: nq + nu directional evaluate_rhs on Dual
+//   jacobian_dual  the exact Jacobian ∂ẏ/∂y column by column: nq + nu evaluate_rhs on Dual
+//   jacobian       the exact Jacobian as the solvers get it (KaneProblem::jacobian): columns in
+//                  blocks of up to 16, one multi-tangent pass per block
 // On a scene with constraints, `rhs` includes the multipliers (A M⁻¹ Aᵀ λ = b − A M⁻¹ f) at the
 // random state, which violates the constraints. Such a scene adds the right-hand sides CVODES
 // integrates at the scene's consistent initial state (the embedding needs a state that the
@@ -130,6 +132,15 @@ int run_bench_rhs(const BenchOptions& o) {
     }
     sink += jac.back();
   }));
+
+  {
+    KaneProblem problem(m, {});
+    problem.set_sample(SampleInputs(m));
+    timings.push_back(time_it("jacobian", o, [&] {
+      problem.jacobian(0.0, y.data(), ydot.data(), jac.data());
+      sink += jac.back();
+    }));
+  }
 
   // Constrained right-hand sides at the consistent initial state (nominal parameters).
   std::vector<double> constrained_state;

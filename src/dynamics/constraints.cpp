@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "math/dual.hpp"
+#include "math/multi_dual.hpp"
 #include "math/cholesky.hpp"
 #include "dynamics/equations.hpp"
 #include "math/planar.hpp"
@@ -219,7 +220,7 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
   // M⁻¹ Aᵀ, column by column.
   for (int j = 0; j < nc; ++j) {
     for (int k = 0; k < n; ++k) ws.scratch_nu[k] = ws.constraint_matrix(j, k);
-    math::cholesky_solve(ws.cholesky.data(), n, n, ws.scratch_nu.data());
+    apply_mass_inverse(m, ws, ws.scratch_nu.data());
     for (int k = 0; k < n; ++k) ws.minv_at(k, j) = ws.scratch_nu[k];
   }
   // Schur complement and right-hand side b − A M⁻¹ f (ws.udot holds M⁻¹ f).
@@ -324,6 +325,10 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
   template bool solve_constrained_accelerations<S>(const Model&, Workspace<S>&);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::MultiDual<4>)
+KANESENS_INSTANTIATE(math::MultiDual<8>)
+KANESENS_INSTANTIATE(math::MultiDual<12>)
+KANESENS_INSTANTIATE(math::MultiDual<16>)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "math/dual.hpp"
+#include "math/multi_dual.hpp"
 #include "math/cholesky.hpp"
 #include "dynamics/equations.hpp"
 #include "dynamics/force_elements.hpp"
@@ -61,12 +62,38 @@ void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
 
 template <class S>
 bool solve_accelerations(const Model& m, Workspace<S>& ws) {
-  // M = Uᵀ U into ws.cholesky (kept: solve_constrained_accelerations reuses it), u̇ = M⁻¹ f.
+  // M = Uᵀ U (kept: solve_constrained_accelerations reuses it), u̇ = M⁻¹ f. On a multi-tangent
+  // scalar only M's value is factored (ws.value_factor).
   const int n = m.nu;
-  if (!math::cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n)) return false;
+  if constexpr (math::is_multi_dual_v<S>) {
+    double* U = ws.value_factor.data();
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i <= j; ++i) U[j * n + i] = ws.mass_matrix(i, j).v;
+    if (!math::cholesky_factor(U, n, U, n, n)) return false;
+  } else {
+    if (!math::cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n)) return false;
+  }
   ws.udot = ws.forcing;
-  math::cholesky_solve(ws.cholesky.data(), n, n, ws.udot.data());
+  apply_mass_inverse(m, ws, ws.udot.data());
   return true;
+}
+
+template <class S>
+void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x) {
+  const int n = m.nu;
+  if constexpr (math::is_multi_dual_v<S>) {
+    // x0 = M0⁻¹ b0, then M0 x_i = b_i − M_i x0 for every tangent i, with M0's factor.
+    const double* U = ws.value_factor.data();
+    double* x0 = ws.value_solution.data();
+    for (int i = 0; i < n; ++i) x0[i] = x[i].v;
+    math::cholesky_solve(U, n, n, x0);
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < n; ++k) x[i].subtract_tangents(ws.mass_matrix(i, k), x0[k]);
+    math::cholesky_solve_with_value_factor(U, n, n, x);
+    for (int i = 0; i < n; ++i) x[i].v = x0[i];
+  } else {
+    math::cholesky_solve(ws.cholesky.data(), n, n, x);
+  }
 }
 
 template <class S>
@@ -141,6 +168,7 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
   template void compute_mass_matrix<S>(const Model&, Workspace<S>&);                            \
   template void compute_forcing<S>(const Model&, Workspace<S>&, const S*, const S*);            \
   template bool solve_accelerations<S>(const Model&, Workspace<S>&);                            \
+  template void apply_mass_inverse<S>(const Model&, Workspace<S>&, S*);                         \
   template void evaluate_mass_matrix_and_forcing<S>(const Model&, Workspace<S>&, const S&,      \
                                                     const S*, const S*);                        \
   template void evaluate_constraints<S>(const Model&, Workspace<S>&, const S&, const S*, const S*,   \
@@ -151,6 +179,10 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
   template S potential_energy<S>(const Model&, const Workspace<S>&, const S*);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::MultiDual<4>)
+KANESENS_INSTANTIATE(math::MultiDual<8>)
+KANESENS_INSTANTIATE(math::MultiDual<12>)
+KANESENS_INSTANTIATE(math::MultiDual<16>)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

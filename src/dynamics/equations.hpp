@@ -35,6 +35,11 @@ void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u);
 // Returns false if M is not positive definite (a singular configuration or bad inertia).
 template <class S>
 bool solve_accelerations(const Model& m, Workspace<S>& ws);
+// x ← M⁻¹ x (nu entries) with the factor of the last solve_accelerations. On a multi-tangent
+// scalar the factor is of M's value and the tangents solve M0 x_i = b_i − M_i x0 (the derivative
+// of M x = b), so no factorisation is done on tangents.
+template <class S>
+void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x);
 template <class S>
 void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q, const S* u);
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "math/dual.hpp"
+#include "math/multi_dual.hpp"
 #include "dynamics/force_elements.hpp"
 #include "dynamics/planar_stages.hpp"
 
@@ -153,6 +154,10 @@ void compute_forcing_planar(const Model& m, Workspace<S>& ws) {
   template void compute_forcing_planar<S>(const Model&, Workspace<S>&);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::MultiDual<4>)
+KANESENS_INSTANTIATE(math::MultiDual<8>)
+KANESENS_INSTANTIATE(math::MultiDual<12>)
+KANESENS_INSTANTIATE(math::MultiDual<16>)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics::detail

@@ -1,6 +1,7 @@
 #include "dynamics/workspace.hpp"
 
 #include "math/dual.hpp"
+#include "math/multi_dual.hpp"
 #include "model/parameters.hpp"
 
 namespace kanesens::dynamics {
@@ -32,6 +33,8 @@ Workspace<S>::Workspace(const Model& m)
       mass_matrix(m.nu, m.nu),
       forcing(m.nu),
       cholesky(m.nu, m.nu),
+      value_factor(m.nu, m.nu),
+      value_solution(m.nu),
       udot(m.nu),
       qdot(m.nq),
       constraint_matrix(m.nconstraint_rows, m.nu),
@@ -107,5 +110,13 @@ template struct Workspace<double>;
 template struct Workspace<Dual>;
 template void set_parameters<double>(const Model&, Workspace<double>&, const double*);
 template void set_parameters<Dual>(const Model&, Workspace<Dual>&, const Dual*);
+template struct Workspace<math::MultiDual<4>>;
+template void set_parameters<math::MultiDual<4>>(const Model&, Workspace<math::MultiDual<4>>&, const math::MultiDual<4>*);
+template struct Workspace<math::MultiDual<8>>;
+template void set_parameters<math::MultiDual<8>>(const Model&, Workspace<math::MultiDual<8>>&, const math::MultiDual<8>*);
+template struct Workspace<math::MultiDual<12>>;
+template void set_parameters<math::MultiDual<12>>(const Model&, Workspace<math::MultiDual<12>>&, const math::MultiDual<12>*);
+template struct Workspace<math::MultiDual<16>>;
+template void set_parameters<math::MultiDual<16>>(const Model&, Workspace<math::MultiDual<16>>&, const math::MultiDual<16>*);
 
 }  // namespace kanesens::dynamics

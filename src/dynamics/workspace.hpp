@@ -66,6 +66,10 @@ struct Workspace {
   MatX<S> mass_matrix;             // nu×nu
   VecX<S> forcing;                 // nu
   MatX<S> cholesky;                // nu×nu: upper triangle = U, mass_matrix = Uᵀ U (U = Lᵀ)
+  // Multi-tangent scalars: the factor of M's value (upper, as cholesky) and one value solve;
+  // the tangents are solved with it (apply_mass_inverse).
+  Eigen::MatrixXd value_factor;    // nu×nu
+  Eigen::VectorXd value_solution;  // nu
   VecX<S> udot;                    // nu
   VecX<S> qdot;                    // nq
   S time = S(0);

@@ -68,4 +68,22 @@ void cholesky_solve(const S* U, std::ptrdiff_t ldu, int n, S* x) {
   }
 }
 
+// x ← (Uᵀ U)⁻¹ x with a factor U on doubles and x on any scalar S: the tangents of x are solved
+// with the value factor (each operation scales S by a double, half the cost of S × S).
+template <class S>
+void cholesky_solve_with_value_factor(const double* U, std::ptrdiff_t ldu, int n, S* x) {
+  for (int i = 0; i < n; ++i) {
+    const double* Ui = U + i * ldu;
+    S s = x[i];
+    for (int k = 0; k < i; ++k) s -= Ui[k] * x[k];
+    x[i] = s / Ui[i];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    const double* Ui = U + i * ldu;
+    x[i] /= Ui[i];
+    const S xi = x[i];
+    for (int k = 0; k < i; ++k) x[k] -= Ui[k] * xi;
+  }
+}
+
 }  // namespace kanesens::math

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "math/dual.hpp"
+#include "math/multi_dual.hpp"
 #include "math/spatial.hpp"
 
 namespace kanesens::model {
@@ -23,6 +24,14 @@ void evaluate_parameter_values(const Model& m, const S* given, S* parameters, S*
 }
 template void evaluate_parameter_values<double>(const Model&, const double*, double*, double*);
 template void evaluate_parameter_values<Dual>(const Model&, const Dual*, Dual*, Dual*);
+template void evaluate_parameter_values<math::MultiDual<4>>(const Model&, const math::MultiDual<4>*,
+                                                             math::MultiDual<4>*, math::MultiDual<4>*);
+template void evaluate_parameter_values<math::MultiDual<8>>(const Model&, const math::MultiDual<8>*,
+                                                             math::MultiDual<8>*, math::MultiDual<8>*);
+template void evaluate_parameter_values<math::MultiDual<12>>(const Model&, const math::MultiDual<12>*,
+                                                             math::MultiDual<12>*, math::MultiDual<12>*);
+template void evaluate_parameter_values<math::MultiDual<16>>(const Model&, const math::MultiDual<16>*,
+                                                             math::MultiDual<16>*, math::MultiDual<16>*);
 
 std::optional<ParameterProblem> find_parameter_problem(const Model& model, const double* parameters) {
   std::vector<double> given(parameters, parameters + model.nparam()), values(model.expressions.size(), 0.0);

@@ -23,7 +23,8 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       holonomic_(model),
       projector_(model, holonomic_),
       y_dual_(model.nstate()),
-      ydot_dual_(model.nstate()) {
+      ydot_dual_(model.nstate()),
+      sensitivity_blocks_(model, static_cast<int>(sens_.size())) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
   if (options_.stabilization == ConstraintOptions::Stabilization::baumgarte) {
     dynamics_.baumgarte_alpha = options_.alpha;
@@ -53,6 +54,25 @@ void KaneProblem::set_sample(const SampleInputs& inputs) {
       sc_ = std::make_unique<dynamics::EmbeddingScratch<double>>(model_, sets_);
       sc_dual_ = std::make_unique<dynamics::EmbeddingScratch<Dual>>(model_, sets_);
     }
+    // Jacobian blocks cover size() columns, which the embedding's sets decide.
+    if (jacobian_blocks_size_ != size()) {
+      jacobian_blocks_ = TangentBlocks(model_, size());
+      jacobian_blocks_size_ = size();
+    }
+    auto load = [&](auto& b, bool with_sensitivities) {
+      using MD = typename std::decay_t<decltype(b)>::Scalar;
+      std::vector<MD> p(inputs.parameters.begin(), inputs.parameters.end());
+      if (with_sensitivities)
+        for (int i = 0; i < b.count; ++i) {
+          const InputRef& in = sens_[static_cast<std::size_t>(b.first + i)];
+          if (in.kind == InputRef::Kind::parameter) p[static_cast<std::size_t>(in.index)].set_d(i, 1.0);
+        }
+      dynamics::set_parameters(model_, b.ws, p.data());
+      b.embedding.reset();
+      if (embedded_) b.embedding = std::make_unique<dynamics::EmbeddingScratch<MD>>(model_, sets_);
+    };
+    jacobian_blocks_.for_each([&](auto& b) { load(b, false); });
+    sensitivity_blocks_.for_each([&](auto& b) { load(b, true); });
   } catch (const InputError& e) {
     failure_ = e;
     throw;
@@ -98,12 +118,16 @@ bool KaneProblem::evaluate(Workspace<S>& ws, const S& t, const S* y, S* ydot) {
   }
 }
 
+void KaneProblem::check_embedding_conditioning(double conditioning, double t) const {
+  if (conditioning > 1e10)
+    throw std::runtime_error("embedding: the independent speeds chosen at t0 no longer parameterise the motion at t = " +
+                             std::to_string(t) + " (dependent-speed matrix conditioning " +
+                             std::to_string(conditioning) + "); use formulation: multipliers");
+}
+
 void KaneProblem::rhs(double t, const double* y, double* ydot) {
   if (evaluate(workspaces_.values(), t, y, ydot)) {
-    if (embedded_ && sc_->conditioning > 1e10)
-      throw std::runtime_error("embedding: the independent speeds chosen at t0 no longer parameterise the motion at t = " +
-                               std::to_string(t) + " (dependent-speed matrix conditioning " +
-                               std::to_string(sc_->conditioning) + "); use formulation: multipliers");
+    if (embedded_) check_embedding_conditioning(sc_->conditioning, t);
     return;
   }
   if (embedded_)
@@ -111,14 +135,63 @@ void KaneProblem::rhs(double t, const double* y, double* ydot) {
   throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
 }
 
+template <int W>
+bool KaneProblem::evaluate_block(TangentBlock<W>& b, double t) {
+  using MD = math::MultiDual<W>;
+  return embedded_ ? dynamics::embedded_rhs(model_, b.ws, *b.embedding, sets_, MD(t), b.y.data(), b.ydot.data(), dynamics_)
+                   : dynamics::evaluate_rhs(model_, b.ws, MD(t), b.y.data(), b.ydot.data(), dynamics_);
+}
+
+// Columns in blocks: a block seeds e_c on y_c for each of its columns c and reads them all from
+// one pass.
 void KaneProblem::jacobian(double t, const double* y, const double*, double* J) {
   const int n = size();
-  for (int c = 0; c < n; ++c) {
-    for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], r == c ? 1.0 : 0.0);
-    if (!evaluate(workspaces_.jacobian(), Dual(t), y_dual_.data(), ydot_dual_.data()))
+  jacobian_blocks_.for_each([&](auto& b) {
+    for (int r = 0; r < n; ++r) {
+      b.y[r].v = y[r];
+      b.y[r].set_tangents([&](int i) { return b.first + i == r ? 1.0 : 0.0; }, b.count);
+    }
+    if (!evaluate_block(b, t))
       throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
-    for (int r = 0; r < n; ++r) J[r + c * n] = ydot_dual_[r].d;
+    for (int i = 0; i < b.count; ++i) {
+      double* column = J + static_cast<std::ptrdiff_t>(b.first + i) * n;
+      for (int r = 0; r < n; ++r) column[r] = b.ydot[r].d(i);
+    }
+  });
+}
+
+// Tangent i of a block is (s_i on y, e_p on its parameter — set by set_sample), so one pass gives
+// J s_i + ∂f/∂p_i for all the block's sensitivities.
+void KaneProblem::sensitivity_rhs_all(double t, const double* y, const double*, int, const double* const* s,
+                                      double* const* sdot) {
+  const int n = size();
+  sensitivity_blocks_.for_each([&](auto& b) {
+    for (int r = 0; r < n; ++r) {
+      b.y[r].v = y[r];
+      b.y[r].set_tangents([&](int i) { return s[b.first + i][r]; }, b.count);
+    }
+    if (!evaluate_block(b, t))
+      throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
+    for (int i = 0; i < b.count; ++i)
+      for (int r = 0; r < n; ++r) sdot[b.first + i][r] = b.ydot[r].d(i);
+  });
+}
+
+// f is the value part of the first sensitivity pass.
+void KaneProblem::rhs_with_sensitivities(double t, const double* y, int ns, const double* const* s, double* ydot,
+                                         double* const* sdot) {
+  if (ns == 0) {
+    rhs(t, y, ydot);
+    return;
   }
+  sensitivity_rhs_all(t, y, nullptr, ns, s, sdot);
+  bool first = true;
+  sensitivity_blocks_.for_each([&](auto& b) {
+    if (!first) return;
+    first = false;
+    for (int r = 0; r < size(); ++r) ydot[r] = b.ydot[r].v;
+    if (embedded_) check_embedding_conditioning(b.embedding->conditioning, t);
+  });
 }
 
 void KaneProblem::sensitivity_rhs(double t, const double* y, const double*, int i, const double* s, double* sdot) {

@@ -26,6 +26,7 @@
 #include "sim/projector.hpp"
 #include "sim/sample_workspaces.hpp"
 #include "sim/solve/ode_problem.hpp"
+#include "sim/tangent_blocks.hpp"
 #include "util/error.hpp"
 
 namespace kanesens::sim {
@@ -58,6 +59,12 @@ class KaneProblem final : public OdeProblem {
   bool has_sensitivity_rhs() const override { return true; }
   void sensitivity_rhs(double t, const double* y, const double* ydot, int i, const double* s,
                        double* sdot) override;
+  // All sensitivities in multi-tangent passes (blocks of up to 16), and with f from the first
+  // pass (DOP853's stages).
+  void sensitivity_rhs_all(double t, const double* y, const double* ydot, int ns, const double* const* s,
+                           double* const* sdot) override;
+  void rhs_with_sensitivities(double t, const double* y, int ns, const double* const* s, double* ydot,
+                              double* const* sdot) override;
   std::vector<double> sensitivity_scales() const override;
   double* dq_parameters() override { return workspaces_.dq_parameters(); }
   std::vector<int> dq_parameter_list() const override { return workspaces_.dq_parameter_list(); }
@@ -118,6 +125,14 @@ class KaneProblem final : public OdeProblem {
   std::unique_ptr<dynamics::EmbeddingScratch<double>> sc_;
   std::unique_ptr<dynamics::EmbeddingScratch<math::Dual>> sc_dual_;
   std::vector<math::Dual> y_dual_, ydot_dual_;  // the dual evaluations' state (allocated once)
+  // Multi-tangent passes: the Jacobian's columns (no parameter tangent) and the sensitivities
+  // (each parameter sensitivity's tangent e_p set per sample).
+  TangentBlocks jacobian_blocks_, sensitivity_blocks_;
+  int jacobian_blocks_size_ = -1;
+  template <int W>
+  bool evaluate_block(TangentBlock<W>& b, double t);
+  // The embedding's check that the independent speeds chosen at t0 still parameterise the motion.
+  void check_embedding_conditioning(double conditioning, double t) const;
 };
 
 }  // namespace kanesens::sim

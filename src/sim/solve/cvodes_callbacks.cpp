@@ -61,6 +61,28 @@ int sens_rhs_trampoline(int /*Ns*/, sunrealtype t, N_Vector y, N_Vector ydot, in
   }
 }
 
+int sens_rhs_all_trampoline(int Ns, sunrealtype t, N_Vector y, N_Vector ydot, N_Vector* yS, N_Vector* ySdot,
+                            void* user_data, N_Vector, N_Vector) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    for (int i = 0; i < Ns; ++i) {
+      cb.s_in[static_cast<std::size_t>(i)] = N_VGetArrayPointer(yS[i]);
+      cb.s_out[static_cast<std::size_t>(i)] = N_VGetArrayPointer(ySdot[i]);
+    }
+    cb.problem->sensitivity_rhs_all(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), Ns, cb.s_in.data(),
+                                    cb.s_out.data());
+    for (int i = 0; i < Ns; ++i) {
+      const int flag = cb.check_finite("sensitivity_rhs", t, cb.s_out[static_cast<std::size_t>(i)], cb.n);
+      if (flag != 0) return flag;
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    return cb.fail("sensitivity_rhs", t, e.what());
+  } catch (...) {
+    return cb.fail("sensitivity_rhs", t, "unknown exception");
+  }
+}
+
 int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
                     void* user_data) noexcept {
   CallbackData& cb = data_of(user_data);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "sim/solve/ode_problem.hpp"
 
@@ -25,6 +26,8 @@ struct CallbackData {
   long recoverable = 0;          // callbacks that returned +1
   std::string callback_message;  // last callback failure (exception or non-finite output)
   std::string solver_message;    // last error reported by CVODES's error handler
+  std::vector<const double*> s_in;  // sens_rhs_all_trampoline's pointers into yS and ySdot (ns each)
+  std::vector<double*> s_out;
 
   void reset(OdeProblem* p, int size) {
     problem = p;
@@ -69,6 +72,10 @@ int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* us
                    N_Vector) noexcept;
 int sens_rhs_trampoline(int ns, sunrealtype t, N_Vector y, N_Vector ydot, int iS, N_Vector yS, N_Vector ySdot,
                         void* user_data, N_Vector, N_Vector) noexcept;
+// All sensitivities in one call (CVodeSensInit): the problem evaluates every direction in one
+// multi-tangent pass.
+int sens_rhs_all_trampoline(int ns, sunrealtype t, N_Vector y, N_Vector ydot, N_Vector* yS, N_Vector* ySdot,
+                            void* user_data, N_Vector, N_Vector) noexcept;
 int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
                     void* user_data) noexcept;
 // CVODES reports errors through this instead of printing them to stderr (thousands of failing

@@ -58,16 +58,17 @@ class Stepper {
   std::size_t size() const { return N_; }
   std::size_t states() const { return n_; }
 
-  // dz = f(t, z): the ODE, then each sensitivity's right-hand side along it.
+  // dz = f(t, z): the ODE and every sensitivity right-hand side along it, in one call.
   void f(double t, const std::vector<double>& zz, std::vector<double>& dz, SolverStats& stats) {
     try {
-      problem_.rhs(t, zz.data(), dz.data());
-      ++stats.rhs_evals;
       for (int i = 0; i < ns_; ++i) {
         const std::size_t o = n_ * (1 + static_cast<std::size_t>(i));
-        problem_.sensitivity_rhs(t, zz.data(), dz.data(), i, zz.data() + o, dz.data() + o);
-        ++stats.sens_rhs_evals;
+        s_in_[static_cast<std::size_t>(i)] = zz.data() + o;
+        s_out_[static_cast<std::size_t>(i)] = dz.data() + o;
       }
+      problem_.rhs_with_sensitivities(t, zz.data(), ns_, s_in_.data(), dz.data(), s_out_.data());
+      ++stats.rhs_evals;
+      stats.sens_rhs_evals += ns_;
     } catch (const std::exception& e) {
       throw CallbackError{e.what()};
     }
@@ -178,6 +179,8 @@ class Stepper {
   double n_controlled_ = 1, rtol_ = 0;
   std::vector<std::vector<double>> k_;
   std::vector<const double*> s_pointers_;
+  std::vector<const double*> s_in_ = std::vector<const double*>(static_cast<std::size_t>(ns_));  // f's arguments
+  std::vector<double*> s_out_ = std::vector<double*>(static_cast<std::size_t>(ns_));
 };
 
 std::string at_time(const char* what, double t) {

@@ -150,6 +150,9 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, dou
   ctx = make_context();
   y = make_serial_vector(n_states, ctx.get());
   N_VConst(0.0, y.get());
+  // Fused vector operations: CVODES updates the Ns sensitivity vectors with one call per
+  // operation instead of one per vector (the clones below inherit this).
+  check_flag(N_VEnableFusedOps_Serial(y.get(), SUNTRUE), "N_VEnableFusedOps_Serial");
 
   // create → init
   mem = make_cvode(o.method == Method::bdf ? CV_BDF : CV_ADAMS, ctx.get());
@@ -200,10 +203,20 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, dou
   if (n_sens > 0) {
     yS = NVectorArray(n_sens, y.get());
     for (int i = 0; i < n_sens; ++i) N_VConst(0.0, yS[i]);
-    check_flag(CVodeSensInit1(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
-                              o.sens_rhs == SensitivityRhs::exact ? sens_rhs_trampoline : nullptr,
-                              yS.get()),
-               "CVodeSensInit1");
+    // Exact right-hand sides all at once (one multi-tangent pass), except for staggered1, which
+    // CVODES runs only with the one-at-a-time form.
+    if (o.sens_rhs == SensitivityRhs::exact && o.sensitivity_method != SensitivityMethod::staggered1) {
+      cb.s_in.assign(static_cast<std::size_t>(n_sens), nullptr);
+      cb.s_out.assign(static_cast<std::size_t>(n_sens), nullptr);
+      check_flag(CVodeSensInit(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
+                               sens_rhs_all_trampoline, yS.get()),
+                 "CVodeSensInit");
+    } else {
+      check_flag(CVodeSensInit1(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
+                                o.sens_rhs == SensitivityRhs::exact ? sens_rhs_trampoline : nullptr,
+                                yS.get()),
+                 "CVodeSensInit1");
+    }
     if (o.sens_atol) {
       std::vector<double> abstol_s(static_cast<std::size_t>(n_sens), *o.sens_atol);  // copied
       check_flag(CVodeSensSStolerances(mem.get(), o.rtol, abstol_s.data()),

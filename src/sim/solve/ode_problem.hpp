@@ -50,6 +50,22 @@ class OdeProblem {
   virtual void sensitivity_rhs(double /*t*/, const double* /*y*/, const double* /*ydot*/, int /*i*/,
                                const double* /*s*/, double* /*sdot*/) {}
 
+  // All sensitivity right-hand sides at once: sdot[i] (n) = J s[i] + ∂f/∂p_i for i < ns (CVODES's
+  // CVodeSensInit; DOP853). The default calls sensitivity_rhs for each i; a problem that shares
+  // work between directions overrides it.
+  virtual void sensitivity_rhs_all(double t, const double* y, const double* ydot, int ns, const double* const* s,
+                                   double* const* sdot) {
+    for (int i = 0; i < ns; ++i) sensitivity_rhs(t, y, ydot, i, s[i], sdot[i]);
+  }
+  // ydot = f(t, y) and all sensitivity right-hand sides together (DOP853's stages). The default
+  // calls rhs, then sensitivity_rhs_all; a problem whose sensitivity pass yields f as a by-product
+  // overrides it (f may then differ from rhs() in the last bits: the order of operations).
+  virtual void rhs_with_sensitivities(double t, const double* y, int ns, const double* const* s, double* ydot,
+                                      double* const* sdot) {
+    rhs(t, y, ydot);
+    if (ns > 0) sensitivity_rhs_all(t, y, ydot, ns, s, sdot);
+  }
+
   // Scale of each sensitivity parameter, |p̄_i| > 0 (ns entries; empty = all 1). CVODES uses
   // it (CVodeSetSensParams pbar) for the default sensitivity tolerances, atol_S = atol/|p̄_i|
   // (CVodeSensEEtolerances), and for the size of its difference-quotient increments. Usually
