@@ -76,6 +76,7 @@ void print_json(const Model& m, const KaneProblem& problem, const std::vector<do
   j.key("sens_rhs_evals").value(static_cast<long long>(s.sens_rhs_evals));
   j.key("rhs_evals_for_sens").value(static_cast<long long>(s.rhs_evals_for_sens));
   j.key("sens_error_test_fails").value(static_cast<long long>(s.sens_error_test_fails));
+  j.key("repartitions").value(static_cast<long long>(s.repartitions));
   j.key("wall_seconds").value(s.wall_seconds);
   j.end_object();
   j.end_object();

@@ -3,6 +3,7 @@
 //     M u̇ = f + Aᵀλ,   A u̇ = −(Ȧu + ȧ0)  =: b
 // solved as u̇ = M⁻¹f + M⁻¹Aᵀλ with (A M⁻¹ Aᵀ) λ = b − A M⁻¹ f. A M⁻¹ Aᵀ is factored by a
 // pivoted Cholesky; when constraints are redundant (rank r < m) λ is the minimum-norm solution.
+#include <array>
 #include <cmath>
 
 #include "math/dual.hpp"
@@ -115,6 +116,28 @@ void general_velocity(const Model& m, Workspace<S>& ws, const Constraint& c, int
 }  // namespace
 
 template <class S>
+void rolling_plane_basis(const Vec3<S>& n, Vec3<S>& t1, Vec3<S>& t2) {
+  using std::abs;
+  using std::sqrt;
+  // The world axis least aligned with n (x unless n is within ~25° of ±x), projected.
+  const Vec3<S> e = abs(value_of(n[0])) < 0.9 ? Vec3<S>(S(1), S(0), S(0)) : Vec3<S>(S(0), S(1), S(0));
+  const Vec3<S> t = e - n.dot(e) * n;
+  t1 = t / sqrt(t.squaredNorm());
+  t2 = n.cross(t1);
+}
+
+template <class S>
+S rolling_contact_height(const Workspace<S>& ws, const Constraint& c) {
+  using std::sqrt;
+  const int b = c.body;
+  const Vec3<S> a = (ws.R[b] * vec3(ws, c.axis)).normalized();
+  const Vec3<S> n = vec3(ws, c.normal).normalized();
+  const S na = n.dot(a);
+  // n·P = n·c − r |n − (n·a) a|, |n − (n·a) a|² = 1 − (n·a)².
+  return n.dot(ws.com[b]) - ws.values[c.radius] * sqrt(S(1) - na * na) - ws.values[c.height];
+}
+
+template <class S>
 void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u, const DynamicsOptions& options) {
   using std::sqrt;
   if (m.evaluate_planar()) {
@@ -177,6 +200,8 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         break;
       case Constraint::Kind::rolling: {
         // Contact point P = c + r d, d = −unit(n − (n·a) a): the wheel point nearest the plane.
+        // Rows in the plane's basis (t1, t2, n): two no-slip rows and the normal row, which is
+        // the velocity form of the contact height (rolling_contact_height).
         const int b = c.body;
         const Vec3<S> a = (ws.R[b] * vec3(ws, c.axis)).normalized();
         const Vec3<S> n = vec3(ws, c.normal).normalized();
@@ -196,12 +221,19 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         const Vec3<S> alpha = ws.bias_acceleration[b].template head<3>();
         const Vec3<S> bias = ws.bias_acceleration[b].template tail<3>() + alpha.cross(P) + omega.cross(Pdot);
         const Vec3<S> vP = vO + omega.cross(P);
+        std::array<Vec3<S>, 3> e;
+        rolling_plane_basis(n, e[0], e[1]);
+        e[2] = n;
+        for (int k = 0; k < m.nu; ++k) {
+          const Vec3<S> pk = point_partial(m, ws, b, k, P);
+          for (int i = 0; i < 3; ++i) ws.constraint_matrix(r0 + i, k) = e[i].dot(pk);
+        }
         for (int i = 0; i < 3; ++i) {
-          for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0 + i, k) = point_partial(m, ws, b, k, P)[i];
-          ws.velocity_residual[r0 + i] = vP[i];
-          ws.constraint_bias[r0 + i] = -bias[i];
+          ws.velocity_residual[r0 + i] = e[i].dot(vP);
+          ws.constraint_bias[r0 + i] = -e[i].dot(bias);
           ws.position_residual[r0 + i] = S(0);
         }
+        ws.position_residual[r0 + 2] = rolling_contact_height(ws, c);
         break;
       }
     }
@@ -320,6 +352,8 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
 }
 
 #define KANESENS_INSTANTIATE(S)                                                          \
+  template void rolling_plane_basis<S>(const Vec3<S>&, Vec3<S>&, Vec3<S>&);               \
+  template S rolling_contact_height<S>(const Workspace<S>&, const Constraint&);          \
   template void compute_constraints<S>(const Model&, Workspace<S>&, const S*, const S*,   \
                                        const DynamicsOptions&);                          \
   template bool solve_constrained_accelerations<S>(const Model&, Workspace<S>&);

@@ -49,6 +49,16 @@ void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q,
 template <class S>
 void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u,
                          const DynamicsOptions& options = {});
+// A `rolling` constraint's rows are in the plane's basis (t1, t2, n): n the unit normal, t1 the
+// world x axis projected onto the plane (the y axis when n is within ~25° of ±x), t2 = n × t1.
+// Rows t1, t2 are the no-slip (nonholonomic) rows; row n is holonomic: its velocity form is the
+// derivative of the contact height h = n·P − height of the wheel's lowest point P = c − r ŵ,
+// ŵ = unit(n − (n·a) a) (a the axle), so A's n row is ∂h/∂q N(q). Needs the position stage.
+template <class S>
+void rolling_plane_basis(const Vec3<S>& n, Vec3<S>& t1, Vec3<S>& t2);
+template <class S>
+S rolling_contact_height(const Workspace<S>& ws, const Constraint& c);
+
 // After solve_accelerations (ws.udot = M⁻¹ f): the multipliers λ and u̇ = M⁻¹(f + Aᵀλ), λ of
 // minimum norm when the constraints are redundant (ws.constraint_rank < m). False only when
 // the redundant-multiplier solve meets non-finite values.

@@ -447,8 +447,10 @@ class Builder {
         c.height = add(cs.height, false);
         c.axis = add3(cs.axis, false);
         c.normal = add3(cs.normal, false);
-        rows = {c.name + ".x", c.name + ".y", c.name + ".z"};
-        c.holonomic = {0, 0, 0};  // contact-point velocity; see dynamics/constraints.cpp
+        // Contact-point velocity in the plane's basis: two no-slip rows and the normal row,
+        // the derivative of the contact height (dynamics/equations.hpp).
+        rows = {c.name + ".t1", c.name + ".t2", c.name + ".n"};
+        c.holonomic = {0, 0, 1};
       }
       c.row_offset = row;
       c.nrows = static_cast<int>(rows.size());

@@ -37,8 +37,8 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 constexpr int kStatusInvalidInputs = -100;  // sampled parameters are not physical (mass ≤ 0, ...)
 constexpr int kStatusException = -101;      // any other error while running the sample
 
-const std::vector<std::string> kStatNames = {"steps", "rhs_evals", "jac_evals", "nonlin_iters",
-                                             "error_test_fails", "sens_rhs_evals", "wall_seconds"};
+const std::vector<std::string> kStatNames = {"steps",          "rhs_evals",    "jac_evals",   "nonlin_iters",
+                                             "error_test_fails", "sens_rhs_evals", "repartitions", "wall_seconds"};
 
 std::string fnv1a_hex(const std::string& s) {
   unsigned long long h = 1469598103934665603ULL;
@@ -384,7 +384,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
           const auto& s = traj.result.stats;
           stats = {static_cast<double>(s.steps), static_cast<double>(s.rhs_evals), static_cast<double>(s.jac_evals),
                    static_cast<double>(s.nonlin_iters), static_cast<double>(s.error_test_fails),
-                   static_cast<double>(s.sens_rhs_evals), s.wall_seconds};
+                   static_cast<double>(s.sens_rhs_evals), static_cast<double>(s.repartitions), s.wall_seconds};
           if (!traj.result.ok()) {
             status = traj.result.status;
             message = traj.result.message;

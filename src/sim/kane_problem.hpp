@@ -69,12 +69,26 @@ class KaneProblem final : public OdeProblem {
   double* dq_parameters() override { return workspaces_.dq_parameters(); }
   std::vector<int> dq_parameter_list() const override { return workspaces_.dq_parameter_list(); }
 
+  // The embedding re-chooses its independent speeds (coordinate partitioning with re-selection,
+  // docs/constraints.md): after every step it measures the amplification κ = max |A_d⁻¹ A_i|;
+  // once κ has grown kRepartitionGrowth-fold (from max(κ at the last choice, 1)), it picks the
+  // best-conditioned partition at the current state and, if that halves κ, maps the state and
+  // the sensitivities to it (the full speeds and their sensitivities are the same in both).
+  // Throws, naming the rows and the time, when A has lost rank (no partition exists).
+  static constexpr double kRepartitionGrowth = 4;
+  bool has_step_check() const override { return embedded_; }
+  bool after_step(double t, double* y, double* const* s) override;
+
   bool has_projection() const override {
     return model_.nconstraint_rows > 0 && options_.stabilization == ConstraintOptions::Stabilization::projection;
   }
   int project(double t, const double* y, double* corr, double eps_proj, double* err) override;
   // Whether simulate() projects the recorded sensitivities (projection + project_sensitivities).
   bool projects_sensitivities() const { return has_projection() && options_.project_sensitivities; }
+
+  // The cause of this run's failure when the problem knows it better than the integrator's flag
+  // (the embedding's constraints losing rank); "" otherwise. simulate() puts it first.
+  const std::string& failure_cause() const { return failure_cause_; }
 
   bool embedded() const { return embedded_; }
   const dynamics::EmbeddingSets& embedding_sets() const { return sets_; }
@@ -120,8 +134,18 @@ class KaneProblem final : public OdeProblem {
   Projector projector_;
   InitialState initial_;
   std::optional<InputError> failure_;  // why the current sample's initial state is unavailable
+  // Why the embedding cannot go on at t: A_d singular, or A of lower rank than at t0 (rows named).
+  // The earliest such message since the last accepted step is kept (failure_cause).
+  std::string embedding_failure(double t, const char* what) const;
+
   bool embedded_ = false;
-  dynamics::EmbeddingSets sets_;
+  dynamics::EmbeddingSets sets0_;  // the partition chosen at t0
+  // The partition in use and κ when it was chosen: initial_state() restores sets0_ (the
+  // integrator starts every run there), after_step() re-chooses.
+  mutable dynamics::EmbeddingSets sets_;
+  mutable double amplification_ref_ = 0, amplification0_ = 0;
+  mutable std::string failure_cause_;
+  mutable double failure_t_ = 0;
   std::unique_ptr<dynamics::EmbeddingScratch<double>> sc_;
   std::unique_ptr<dynamics::EmbeddingScratch<math::Dual>> sc_dual_;
   std::vector<math::Dual> y_dual_, ydot_dual_;  // the dual evaluations' state (allocated once)
@@ -131,8 +155,7 @@ class KaneProblem final : public OdeProblem {
   int jacobian_blocks_size_ = -1;
   template <int W>
   bool evaluate_block(TangentBlock<W>& b, double t);
-  // The embedding's check that the independent speeds chosen at t0 still parameterise the motion.
-  void check_embedding_conditioning(double conditioning, double t) const;
+  std::vector<double> u_full_, s_full_;  // after_step scratch (nu, nstate)
 };
 
 }  // namespace kanesens::sim

@@ -77,6 +77,9 @@ void simulate(KaneProblem& problem, Integrator& integrator, std::span<const doub
               const RecordFlags& flags, Trajectory& traj) {
   resize_trajectory(traj, problem, times.size(), flags);
   traj.result = integrator.integrate(problem, times, make_recorder(problem, flags, traj));
+  if (!traj.result.ok() && !problem.failure_cause().empty() &&
+      traj.result.message.find(problem.failure_cause()) == std::string::npos)
+    traj.result.message = problem.failure_cause() + " (" + traj.result.message + ")";
 }
 
 }  // namespace kanesens::sim

@@ -24,6 +24,8 @@ int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) no
     double* f = N_VGetArrayPointer(ydot);
     cb.problem->rhs(t, N_VGetArrayPointer(y), f);
     return cb.check_finite("rhs", t, f, cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("rhs", t, e.what());
   } catch (const std::exception& e) {
     return cb.fail("rhs", t, e.what());
   } catch (...) {
@@ -39,6 +41,8 @@ int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* us
     double* jac = SUNDenseMatrix_Data(J);
     cb.problem->jacobian(t, N_VGetArrayPointer(y), N_VGetArrayPointer(fy), jac);
     return cb.check_finite("jacobian", t, jac, static_cast<long>(cb.n) * cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("jacobian", t, e.what());
   } catch (const std::exception& e) {
     return cb.fail("jacobian", t, e.what());
   } catch (...) {
@@ -54,6 +58,8 @@ int sens_rhs_trampoline(int /*Ns*/, sunrealtype t, N_Vector y, N_Vector ydot, in
     cb.problem->sensitivity_rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), iS,
                                 N_VGetArrayPointer(yS), sdot);
     return cb.check_finite("sensitivity_rhs", t, sdot, cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("sensitivity_rhs", t, e.what());
   } catch (const std::exception& e) {
     return cb.fail("sensitivity_rhs", t, e.what());
   } catch (...) {
@@ -76,6 +82,8 @@ int sens_rhs_all_trampoline(int Ns, sunrealtype t, N_Vector y, N_Vector ydot, N_
       if (flag != 0) return flag;
     }
     return 0;
+  } catch (const RecoverableError& e) {
+    return cb.recover("sensitivity_rhs", t, e.what());
   } catch (const std::exception& e) {
     return cb.fail("sensitivity_rhs", t, e.what());
   } catch (...) {

@@ -46,6 +46,16 @@ struct CallbackData {
     return -1;
   }
 
+  // A callback asked for a smaller step (RecoverableError): keep its message, return +1.
+  int recover(const char* where, double t, const char* what) noexcept {
+    ++recoverable;
+    try {
+      callback_message = std::string(where) + " at t = " + format_time(t) + ": " + what;
+    } catch (...) {
+    }
+    return 1;
+  }
+
   // Scan a callback's output; a NaN or Inf makes the step fail recoverably (+1), so CVODES
   // retries with a smaller step; if that keeps happening it gives up with a flag < 0.
   int check_finite(const char* where, double t, const double* v, long count) noexcept {

@@ -53,6 +53,7 @@ class Stepper {
     n_controlled_ = static_cast<double>(std::count(controlled_.begin(), controlled_.end(), 1));
     rtol_ = o.rtol;
     s_pointers_.resize(static_cast<std::size_t>(ns));
+    s_step_.resize(static_cast<std::size_t>(ns));
   }
 
   std::size_t size() const { return N_; }
@@ -69,8 +70,12 @@ class Stepper {
       problem_.rhs_with_sensitivities(t, zz.data(), ns_, s_in_.data(), dz.data(), s_out_.data());
       ++stats.rhs_evals;
       stats.sens_rhs_evals += ns_;
+    } catch (const RecoverableError& e) {
+      // A smaller step may avoid it: a non-finite stage rejects the step.
+      std::fill(dz.begin(), dz.end(), std::numeric_limits<double>::quiet_NaN());
+      recoverable_message = e.what();
     } catch (const std::exception& e) {
-      throw CallbackError{e.what()};
+      throw CallbackError{std::string("rhs threw: ") + e.what()};
     }
   }
 
@@ -164,10 +169,27 @@ class Stepper {
     for (int i = 0; i < ns_; ++i) s_pointers_[static_cast<std::size_t>(i)] = z.data() + n_ * (1 + static_cast<std::size_t>(i));
     return ns_ ? s_pointers_.data() : nullptr;
   }
+
+  // problem.after_step on the current state; if the problem changed its coordinates, the first
+  // stage is re-evaluated (a one-step method needs nothing else to restart). True if it did.
+  bool after_step(double t, SolverStats& stats) {
+    for (int i = 0; i < ns_; ++i) s_step_[static_cast<std::size_t>(i)] = z.data() + n_ * (1 + static_cast<std::size_t>(i));
+    bool changed = false;
+    try {
+      changed = problem_.after_step(t, z.data(), ns_ ? s_step_.data() : nullptr);
+    } catch (const std::exception& e) {
+      throw CallbackError{e.what()};
+    }
+    if (!changed) return false;
+    ++stats.repartitions;
+    f(t, z, k_[0], stats);
+    return true;
+  }
   std::vector<double>& first_stage() { return k_[0]; }
 
  public:
   std::vector<double> z, z_new;  // the current state and the trial step's (stacked)
+  std::string recoverable_message;  // the last RecoverableError of a callback
 
  private:
   OdeProblem& problem_;
@@ -181,6 +203,7 @@ class Stepper {
   std::vector<const double*> s_pointers_;
   std::vector<const double*> s_in_ = std::vector<const double*>(static_cast<std::size_t>(ns_));  // f's arguments
   std::vector<double*> s_out_ = std::vector<double*>(static_cast<std::size_t>(ns_));
+  std::vector<double*> s_step_;
 };
 
 std::string at_time(const char* what, double t) {
@@ -208,6 +231,7 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
   for (int i = 0; i < ns; ++i) problem.initial_sensitivity(i, st.z.data() + n * (1 + static_cast<std::size_t>(i)));
   std::vector<double> corr(n);
   const bool projecting = problem.has_projection() && options.projection_frequency > 0;
+  const bool checking = problem.has_step_check();
 
   IntegrationResult r;
   r.t_fail = std::numeric_limits<double>::quiet_NaN();
@@ -252,7 +276,8 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
             return finish(status_step_too_small, t,
                           at_time("DOP853_ERR_FAILURE", t) + ": the step size fell below round-off of t (" +
                               (std::isnan(err) ? std::string("the right-hand side is not finite")
-                                               : std::string("repeated error-test failures")) + ")");
+                                               : std::string("repeated error-test failures")) + ")" +
+                              (st.recoverable_message.empty() ? std::string() : "; " + st.recoverable_message));
           continue;
         }
         double factor = err == 0 ? max_factor : std::min(max_factor, std::max(min_factor, safety * std::pow(err, error_exponent)));
@@ -267,12 +292,13 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
         if (projecting && r.stats.steps % options.projection_frequency == 0 && !st.project(t, corr, r.stats))
           return finish(status_step_too_small, t, at_time("DOP853_PROJECTION_FAILED", t) +
                                                       ": the projection onto the constraints did not converge");
+        if (checking && t < times.back()) st.after_step(t, r.stats);
       }
       record(static_cast<int>(k), t_out, st.z.data(), st.sensitivities());
       ++r.outputs_recorded;
     }
   } catch (const CallbackError& e) {
-    return finish(status_rhs_failed, t, at_time("DOP853_RHSFUNC_FAIL", t) + ": rhs threw: " + e.what);
+    return finish(status_rhs_failed, t, at_time("DOP853_RHSFUNC_FAIL", t) + ": " + e.what);
   }
   r.status = 1;
   r.stats.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();

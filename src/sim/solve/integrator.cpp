@@ -70,7 +70,11 @@ struct Integrator::Impl {
   NonlinearSolverPtr NLS_sens;
   CvodeMemPtr mem;
 
+  NVectorPtr y_out;                       // output interpolated between steps (step-by-step runs)
+  NVectorArray yS_out;
   std::vector<const double*> s_pointers;  // ns pointers into yS, for record()
+  std::vector<const double*> s_out_pointers;  // ns pointers into yS_out
+  std::vector<double*> s_step_pointers;   // ns pointers into yS, for after_step()
   std::vector<double> pbar;               // sensitivity scales of the current problem
   std::vector<int> plist;                 // DQ parameter list of the current problem
   double* dq_p = nullptr;                 // DQ parameter array of the current problem
@@ -78,6 +82,8 @@ struct Integrator::Impl {
 
   void release() noexcept {
     mem.reset();
+    yS_out = NVectorArray();
+    y_out.reset();
     NLS_sens.reset();
     yS = NVectorArray();
     NLS.reset();
@@ -90,6 +96,17 @@ struct Integrator::Impl {
   }
 
   void check_problem(OdeProblem& problem, std::span<const double> times) const;
+  // Steps one at a time, records the outputs each step passes and restarts where the problem
+  // changes its coordinates (OdeProblem::after_step). Outputs 1.. into `result`.
+  void integrate_stepwise(OdeProblem& problem, std::span<const double> times, const RecordFn& record,
+                          IntegrationResult& result);
+  void fail(IntegrationResult& result, int flag, double t) const {
+    result.status = flag;
+    result.t_fail = t;
+    result.message = cvode_flag_name(flag) + " at t = " + format_time(t);
+    if (!cb.solver_message.empty()) result.message += ": " + cb.solver_message;
+    if (!cb.callback_message.empty()) result.message += "; " + cb.callback_message;
+  }
   void build(int n_states, int n_sens, bool with_projection, double t0);
   void reinit(OdeProblem& problem, double t0, double t_end);
   void restore_dq_parameters() noexcept {
@@ -252,8 +269,17 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, dou
     }
   }
 
+  y_out = make_serial_vector(n_states, ctx.get());
+  N_VConst(0.0, y_out.get());
+  if (n_sens > 0) yS_out = NVectorArray(n_sens, y.get());
   s_pointers.assign(static_cast<std::size_t>(n_sens), nullptr);
-  for (int i = 0; i < n_sens; ++i) s_pointers[static_cast<std::size_t>(i)] = yS.data(i);
+  s_out_pointers.assign(static_cast<std::size_t>(n_sens), nullptr);
+  s_step_pointers.assign(static_cast<std::size_t>(n_sens), nullptr);
+  for (int i = 0; i < n_sens; ++i) {
+    s_pointers[static_cast<std::size_t>(i)] = yS.data(i);
+    s_out_pointers[static_cast<std::size_t>(i)] = yS_out.data(i);
+    s_step_pointers[static_cast<std::size_t>(i)] = yS.data(i);
+  }
   n = n_states;
   ns = n_sens;
   projection = with_projection;
@@ -288,6 +314,61 @@ void Integrator::Impl::reinit(OdeProblem& problem, double t0, double t_end) {
   }
   // Never step past the last output (a model's forcing may be defined only up to t_end).
   check_flag(CVodeSetStopTime(mem.get(), t_end), "CVodeSetStopTime");
+}
+
+void Integrator::Impl::integrate_stepwise(OdeProblem& problem, std::span<const double> times, const RecordFn& record,
+                                          IntegrationResult& result) {
+  void* m = mem.get();
+  double* yv = N_VGetArrayPointer(y.get());
+  const double* const* s_out = ns > 0 ? s_out_pointers.data() : nullptr;
+  double* const* s_step = ns > 0 ? s_step_pointers.data() : nullptr;
+  SolverStats before;  // counters of the segments before the last restart (CVodeReInit resets them)
+  std::size_t k = 1;
+  double t = times.front();
+  while (k < times.size()) {
+    long steps = 0;
+    check_flag(CVodeGetNumSteps(m, &steps), "CVodeGetNumSteps");
+    if (before.steps + steps >= options.max_steps) {
+      result.status = CV_TOO_MUCH_WORK;
+      result.t_fail = t;
+      result.message = "CV_TOO_MUCH_WORK at t = " + format_time(t) + ": max_steps = " +
+                       std::to_string(options.max_steps) + " steps taken before reaching t = " + format_time(times[k]);
+      break;
+    }
+    const int flag = CVode(m, times.back(), y.get(), &t, CV_ONE_STEP);
+    if (flag < 0) {
+      fail(result, flag, t);
+      break;
+    }
+    for (; k < times.size() && times[k] <= t; ++k) {
+      check_flag(CVodeGetDky(m, times[k], 0, y_out.get()), "CVodeGetDky");
+      for (int i = 0; i < ns; ++i) check_flag(CVodeGetSensDky1(m, times[k], 0, i, yS_out[i]), "CVodeGetSensDky1");
+      record(static_cast<int>(k), times[k], N_VGetArrayPointer(y_out.get()), s_out);
+      ++result.outputs_recorded;
+    }
+    if (k == times.size()) break;
+    if (ns > 0) {
+      double ts = 0;
+      check_flag(CVodeGetSens(m, &ts, yS.get()), "CVodeGetSens");
+    }
+    bool changed = false;
+    try {
+      changed = problem.after_step(t, yv, s_step);
+    } catch (const std::exception& e) {
+      result.status = CV_RHSFUNC_FAIL;
+      result.t_fail = t;
+      result.message = cvode_flag_name(CV_RHSFUNC_FAIL) + " at t = " + format_time(t) + ": " + e.what();
+      break;
+    }
+    if (!changed) continue;
+    before += collect_stats();
+    ++before.repartitions;
+    check_flag(CVodeReInit(m, t, y.get()), "CVodeReInit");
+    if (ns > 0)
+      check_flag(CVodeSensReInit(m, sensitivity_method_flag(options.sensitivity_method), yS.get()), "CVodeSensReInit");
+    check_flag(CVodeSetStopTime(m, times.back()), "CVodeSetStopTime");
+  }
+  result.stats = before;
 }
 
 SolverStats Integrator::Impl::collect_stats() const {
@@ -361,6 +442,16 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   result.status = 1;
   result.t_fail = std::numeric_limits<double>::quiet_NaN();
 
+  if (problem.has_step_check()) {
+    im.integrate_stepwise(problem, times, record, result);
+    const SolverStats earlier = result.stats;
+    result.stats = im.collect_stats();
+    result.stats += earlier;
+    result.stats.callback_recoverable = im.cb.recoverable;  // ours: not reset by CVodeReInit
+    result.stats.wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  }
   for (std::size_t k = 1; k < times.size(); ++k) {
     const double tout = times[k];
     long steps = 0;
@@ -381,11 +472,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
     check_flag(CVodeSetMaxNumSteps(m, remaining > 0 ? remaining : 1), "CVodeSetMaxNumSteps");
     const int flag = CVode(m, tout, im.y.get(), &t_reached, CV_NORMAL);
     if (flag < 0) {
-      result.status = flag;
-      result.t_fail = t_reached;
-      result.message = cvode_flag_name(flag) + " at t = " + format_time(t_reached);
-      if (!im.cb.solver_message.empty()) result.message += ": " + im.cb.solver_message;
-      if (!im.cb.callback_message.empty()) result.message += "; " + im.cb.callback_message;
+      im.fail(result, flag, t_reached);
       break;
     }
     if (n_sens > 0) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
@@ -397,6 +484,25 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   result.stats.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+SolverStats& SolverStats::operator+=(const SolverStats& o) {
+  steps += o.steps;
+  rhs_evals += o.rhs_evals;
+  jac_evals += o.jac_evals;
+  lin_rhs_evals += o.lin_rhs_evals;
+  nonlin_iters += o.nonlin_iters;
+  nonlin_conv_fails += o.nonlin_conv_fails;
+  error_test_fails += o.error_test_fails;
+  sens_rhs_evals += o.sens_rhs_evals;
+  rhs_evals_for_sens += o.rhs_evals_for_sens;
+  sens_error_test_fails += o.sens_error_test_fails;
+  sens_nonlin_iters += o.sens_nonlin_iters;
+  projections += o.projections;
+  callback_recoverable += o.callback_recoverable;
+  repartitions += o.repartitions;
+  wall_seconds += o.wall_seconds;
+  return *this;
 }
 
 IntegrationResult integrate(OdeProblem& problem, const SolverOptions& options,

@@ -16,9 +16,17 @@
 // (return −1). A non-finite value written into ydot, J or sdot is caught by the trampoline too
 // and reported to CVODES as a recoverable failure (+1: it retries with a smaller step).
 #pragma once
+#include <stdexcept>
 #include <vector>
 
 namespace kanesens::sim {
+
+// Thrown by rhs, jacobian or sensitivity_rhs for a failure that a smaller step may avoid (a
+// trial point past a singular position): the integrator rejects the step as for a non-finite
+// value (CVODES +1, DOP853 a smaller step) and keeps the message for its report.
+struct RecoverableError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 class OdeProblem {
  public:
@@ -88,6 +96,18 @@ class OdeProblem {
   // local error estimate; when not null, overwrite it with its projection (P err). Return 0 on
   // success, > 0 for a recoverable failure (CVODES retries with a smaller step), < 0 fatal.
   // NOTE: combining projection with sensitivities is experimental; see docs/solve.md.
+  // Coordinates that change between steps (the embedding re-choosing its independent speeds,
+  // docs/constraints.md). When has_step_check(), the integrator calls after_step after every
+  // accepted step (and projection) that does not end the integration, with the step's state y
+  // (n) and sensitivities s[i] (n each; s == nullptr when ns = 0). A problem that changes the
+  // meaning of its state rewrites y and s in place (same n) and returns true; the integrator
+  // then restarts from (t, y, s) (CVodeReInit and CVodeSensReInit; DOP853 re-evaluates its first
+  // stage) and counts it (SolverStats::repartitions). Outputs are recorded in the coordinates
+  // of the moment (CVODES records those it interpolates before t first). An exception fails the
+  // integration with its message.
+  virtual bool has_step_check() const { return false; }
+  virtual bool after_step(double /*t*/, double* /*y*/, double* const* /*s*/) { return false; }
+
   virtual bool has_projection() const { return false; }
   virtual int project(double /*t*/, const double* /*y*/, double* /*corr*/, double /*eps_proj*/,
                       double* /*err*/) {
