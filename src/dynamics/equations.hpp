@@ -12,10 +12,14 @@
 //
 // For speed k of joint j with child body C and joint point Q, the partial angular velocity is
 // Ω_k and the partial velocity of a point P moved by C is V_k(P) = L_k + Ω_k × (P − Q)
-// (Kane & Levinson 1985, ch. 2). Stored as the spatial vector s_k = (Ω_k, L_k + Q × Ω_k) at the
-// world origin, M_kl = Σ_i m_i V_ik·V_il + Ω_ik·I_i Ω_il = s_kᵀ I^c s_l with I^c the composite
-// spatial inertia of the bodies both speeds move, and f_k = s_k · (Σ of the bodies' applied
-// minus inertial wrenches), which is SymPy KanesMethod's `mass_matrix` / `forcing`.
+// (Kane & Levinson 1985, ch. 2). Each is held as the spatial vector s_k = (Ω_k, L_k) at Q, with
+// world-aligned axes (dynamics/workspace.hpp); M_kl = Σ_i m_i V_ik·V_il + Ω_ik·I_i Ω_il =
+// s_k · I^c s_l with I^c the composite spatial inertia of the bodies both speeds move, and
+// f_k = s_k · (Σ of the bodies' applied minus inertial wrenches), which is SymPy KanesMethod's
+// `mass_matrix` / `forcing`. The sums are formed by the composite-rigid-body and Newton–Euler
+// recursions (Featherstone 2008 ch. 5–6), each body's quantities at its own joint point and
+// carried between neighbours by the joint's offset, so the numbers do not depend on where the
+// mechanism stands.
 #pragma once
 #include "dynamics/options.hpp"
 #include "dynamics/workspace.hpp"
@@ -57,7 +61,7 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
 template <class S>
 void rolling_plane_basis(const Vec3<S>& n, Vec3<S>& t1, Vec3<S>& t2);
 template <class S>
-S rolling_contact_height(const Workspace<S>& ws, const Constraint& c);
+S rolling_contact_height(const Model& m, const Workspace<S>& ws, const Constraint& c);
 
 // After solve_accelerations (ws.udot = M⁻¹ f): the multipliers λ and u̇ = M⁻¹(f + Aᵀλ), λ of
 // minimum norm when the constraints are redundant (ws.constraint_rank < m). False only when

@@ -231,6 +231,10 @@ class Builder {
     m_.moves.assign(nb, std::vector<unsigned char>(m_.nu, 0));
     for (int b = 0; b < nb; ++b)
       for (int k : m_.ancestor_speeds[b]) m_.moves[b][k] = 1;
+    for (int ji : order) {
+      const Joint& j = m_.joints[ji];
+      m_.bodies[j.child].root_joint = j.parent >= 0 ? m_.bodies[j.parent].root_joint : ji;
+    }
   }
 
   void build_state_names() {

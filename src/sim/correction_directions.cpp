@@ -1,6 +1,7 @@
 #include "sim/correction_directions.hpp"
 
 #include "dynamics/equations.hpp"
+#include "dynamics/frames.hpp"
 
 namespace kanesens::sim {
 namespace {
@@ -28,7 +29,7 @@ std::vector<Wheel> wheels_at(const Model& m, Workspace<double>& ws, double t, co
     x.body = c.body;
     x.normal = V3(ws.values[c.normal[0]], ws.values[c.normal[1]], ws.values[c.normal[2]]).normalized();
     x.axle = (ws.R[c.body] * V3(ws.values[c.axis[0]], ws.values[c.axis[1]], ws.values[c.axis[2]])).normalized();
-    x.centre = ws.com[c.body];
+    x.centre = dynamics::world_point(m, ws, c.body, V3::Zero().eval());
     w.push_back(x);
   }
   return w;
@@ -73,7 +74,8 @@ Eigen::VectorXd free_motion(const Model& m, const Workspace<double>& ws, const J
 // A rotation about the axis `axis` through the point X: ω = axis, v_Q = axis × (Q − X).
 Eigen::VectorXd free_rotation(const Model& m, const Workspace<double>& ws, int j, const V3& axis, const V3& X) {
   const Joint& J = m.joints[static_cast<std::size_t>(j)];
-  return free_motion(m, ws, J, axis.cross(ws.joint_point[static_cast<std::size_t>(j)] - X), axis);
+    const V3 Q = dynamics::world_point(m, ws, J.child, ws.reference_point[static_cast<std::size_t>(J.child)]);
+  return free_motion(m, ws, J, axis.cross(Q - X), axis);
 }
 
 // q̇ = N(q) u, without the quaternions' norm term (q is on the unit sphere here).

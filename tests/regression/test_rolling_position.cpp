@@ -39,7 +39,7 @@ scene:
 // Contact height of rolling constraint `c` at q (position stage only).
 double height_at(const ks::Model& m, ks::Workspace<double>& ws, int c, const std::vector<double>& y) {
   ks::compute_position(m, ws, y.data());
-  return ks::rolling_contact_height(ws, m.constraints[static_cast<std::size_t>(c)]);
+  return ks::rolling_contact_height(m, ws, m.constraints[static_cast<std::size_t>(c)]);
 }
 
 TEST(RollingPosition, NormalRowIsTheDerivativeOfTheContactHeight) {
