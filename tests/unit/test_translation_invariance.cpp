@@ -341,6 +341,17 @@ Result evaluate(const Scene& s, const Placement& p, bool state_tangents) {
   EXPECT_TRUE(evaluate_rhs(m, ws, 0.3, y.data(), ydot.data())) << s.name;
   r.udot.assign(ydot.begin() + m.nq, ydot.end());
   r.lambda.assign(ws.multipliers.data(), ws.multipliers.data() + m.nconstraint_rows);
+  // A rolling contact's multipliers are in its plane's basis (t1, t2, n), whose t1 follows the
+  // world x axis: compare the contact forces as world vectors.
+  for (const auto& c : m.constraints) {
+    if (c.kind != kanesens::model::Constraint::Kind::rolling) continue;
+    const Vector3d n = Vector3d(ws.values[c.normal[0]], ws.values[c.normal[1]], ws.values[c.normal[2]]).normalized();
+    Vector3d t1, t2;
+    kanesens::dynamics::rolling_plane_basis<double>(n, t1, t2);
+    double* l = r.lambda.data() + c.row_offset;
+    const Vector3d w = l[0] * t1 + l[1] * t2 + l[2] * n;
+    for (int i = 0; i < 3; ++i) l[i] = w[i];
+  }
   r.T = kinetic_energy(m, ws);
   r.V = potential_energy(m, ws, y.data());
   r.g = ws.gravity;
