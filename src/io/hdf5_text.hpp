@@ -37,7 +37,9 @@ std::vector<std::string> read_strings(hid_t dataset, std::string_view path);
 void write_text_attribute(hid_t object, const std::string& name, std::string_view value);
 void write_number_attribute(hid_t object, const std::string& name, double value);
 
-// The text attribute `name` of `object`, or nullopt when it has none.
-std::optional<std::string> read_text_attribute(hid_t object, const std::string& name);
+// The text attribute `name` of `object`, or nullopt when it has none. Throws when it is not one
+// fixed-length string of at most `max_size` bytes.
+std::optional<std::string> read_text_attribute(hid_t object, const std::string& name,
+                                               std::size_t max_size = std::size_t{1} << 26);
 
 }  // namespace kanesens::io
