@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cctype>
-#include <fstream>
-#include <sstream>
+#include <unordered_set>
 
 #include "util/did_you_mean.hpp"
+#include "util/input_text.hpp"
 
 namespace kanesens::yaml {
 
@@ -43,16 +43,15 @@ void check_keys(const YAML::Node& node, const std::string& file, const std::stri
                 std::initializer_list<const char*> allowed) {
   require_map(node, file, key);
   std::vector<std::string> names(allowed.begin(), allowed.end());
-  std::vector<std::string> seen;
+  std::unordered_set<std::string> seen;  // a map of 100 000 keys is checked in linear time
   for (const auto& kv : node) {
     if (!kv.first.IsScalar())
       fail(kv.first, file, key, std::string("expected a plain key, found ") + type_name(kv.first));
     const std::string k = kv.first.Scalar();
     // yaml-cpp keeps both entries of a repeated key and node[k] returns the first: refuse it
     // rather than silently ignoring the second value.
-    if (std::find(seen.begin(), seen.end(), k) != seen.end())
+    if (!seen.insert(k).second)
       fail(kv.first, file, key.empty() ? k : key + "." + k, "key '" + k + "' is given twice");
-    seen.push_back(k);
     bool ok = false;
     for (const auto& a : names) ok = ok || a == k;
     if (!ok)
@@ -106,6 +105,7 @@ std::vector<ExprText> read_expr_list(const YAML::Node& node, const std::string& 
 }
 
 YAML::Node load(const std::string& text, const std::string& file) {
+  check_input_text(text, file);
   try {
     return YAML::Load(text);
   } catch (const YAML::Exception& e) {  // ParserException, and anything else the loader throws
@@ -114,12 +114,6 @@ YAML::Node load(const std::string& text, const std::string& file) {
   }
 }
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path, 0, 0}, "", "cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string read_file(const std::string& path) { return read_input_file(path); }
 
 }  // namespace kanesens::yaml

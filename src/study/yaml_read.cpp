@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <unordered_set>
 #include <vector>
 
 #include "util/did_you_mean.hpp"
@@ -43,7 +44,7 @@ void require_map(const YAML::Node& node, const std::string& path, const SourceLo
 void check_keys(const YAML::Node& map, std::span<const std::string_view> allowed,
                 const std::string& path, const SourceLocation& file) {
   require_map(map, path, file);
-  std::vector<std::string> seen;
+  std::unordered_set<std::string> seen;
   for (const auto& kv : map) {
     const YAML::Node& key = kv.first;
     if (!key.IsScalar()) {
@@ -59,12 +60,9 @@ void check_keys(const YAML::Node& map, std::span<const std::string_view> allowed
                        "unknown key '" + name + "'" + did_you_mean(name, allowed) +
                            "; expected one of: " + join_names(allowed));
     }
-    for (const auto& s : seen) {
-      if (s == name) {
-        throw InputError(location_of(key, file), key_path, "key '" + name + "' is given twice");
-      }
+    if (!seen.insert(name).second) {
+      throw InputError(location_of(key, file), key_path, "key '" + name + "' is given twice");
     }
-    seen.push_back(name);
   }
 }
 
