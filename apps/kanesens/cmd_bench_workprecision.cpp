@@ -662,19 +662,19 @@ void add_bench_workprecision(CLI::App* bench, Action& action) {
   wp->add_option("--tolerances", o->tolerances, "Comma-separated rtol values (atol = rtol · atol-ratio)");
   wp->add_option("--methods", o->methods,
                  "Comma-separated: bdf-exact, bdf-dq, adams-newton, adams-functional, dop853, rk4, sens-exact, sens-dq");
-  wp->add_option("--repeat", o->repeat, "Timed runs per point (the median is reported)");
-  wp->add_option("--reference-rtol", o->reference_rtol, "rtol of the reference run");
+  wp->add_option("--repeat", o->repeat, "Timed runs per point (the median is reported)")->check(integer_in(1, 100000));
+  wp->add_option("--reference-rtol", o->reference_rtol, "rtol of the reference run")->check(finite_number(1e-300, 1));
   wp->add_option("--reference-method", o->reference_method,
                  "Method of the reference run: bdf-exact (default), dop853 (non-stiff problems), ...");
   wp->add_option("--reference-file", o->reference_file,
                  "Reference solution (JSON/YAML with time, states[, state_names, sensitivities]) instead of a computed one");
-  wp->add_option("--atol-ratio", o->atol_ratio, "atol = rtol · this (default 0.01)");
-  wp->add_option("--error-floor", o->error_floor, "Floor of the denominator of relative errors (default 0.01)");
+  wp->add_option("--atol-ratio", o->atol_ratio, "atol = rtol · this (default 0.01)")->check(finite_number(1e-300, 1e300));
+  wp->add_option("--error-floor", o->error_floor, "Floor of the denominator of relative errors (default 0.01)")->check(finite_number(0, 1e300));
   wp->add_option("--rk4-steps", o->rk4_steps, "Comma-separated step counts N for rk4 (h = (t_end − t0)/N)");
-  wp->add_option("--rk4-h-scale", o->rk4_h_scale, "rk4 step for tolerance tol: h = scale · tol^(1/4) (default 0.1)");
-  wp->add_option("--max-seconds", o->max_seconds, "A point whose first run takes longer is not repeated");
-  wp->add_option("--max-steps", o->max_steps, "Step budget per run (default: the study's solver.max_steps)");
-  wp->add_option("--reference-max-steps", o->reference_max_steps, "Step budget of the reference run");
+  wp->add_option("--rk4-h-scale", o->rk4_h_scale, "rk4 step for tolerance tol: h = scale · tol^(1/4) (default 0.1)")->check(finite_number(1e-300, 1e300));
+  wp->add_option("--max-seconds", o->max_seconds, "A point whose first run takes longer is not repeated")->check(finite_number(0, 1e9));
+  wp->add_option("--max-steps", o->max_steps, "Step budget per run (default: the study's solver.max_steps)")->check(integer_in(0, 1LL << 40));
+  wp->add_option("--reference-max-steps", o->reference_max_steps, "Step budget of the reference run")->check(integer_in(1, 1LL << 40));
   wp->add_flag("--with-sens", o->with_sens, "Integrate the study's sensitivities with every method");
   wp->add_flag("--json", o->json, "Print JSON");
   wp->callback([&action, o] { action = [o] { return run_bench_workprecision(*o); }; });

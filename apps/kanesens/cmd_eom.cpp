@@ -90,7 +90,7 @@ CLI::App* add_eom(CLI::App& app, Action& action) {
   cmd->add_option("scene", o->scene, "Scene YAML file")->required();
   cmd->add_option("--q", o->q, "All coordinates in joint order, comma-separated (use --q=-1,2 for negatives)");
   cmd->add_option("--u", o->u, "All speeds in joint order, comma-separated");
-  cmd->add_option("--t", o->t, "Time (for time-dependent forces)");
+  cmd->add_option("--t", o->t, "Time (for time-dependent forces)")->check(finite_number());
   cmd->add_option("--set", o->set, "Override a parameter: NAME=VALUE (repeatable)");
   cmd->callback([&action, o] { action = [o] { return run_eom(*o); }; });
   return cmd;

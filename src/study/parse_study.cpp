@@ -20,10 +20,15 @@ double read_number(const YAML::Node& n, const std::string& file, const std::stri
   }
 }
 
-long read_integer(const YAML::Node& n, const std::string& file, const std::string& key, long min) {
+long read_integer(const YAML::Node& n, const std::string& file, const std::string& key, long min,
+                  long max = 9'000'000'000'000'000L) {
   const double v = read_number(n, file, key);
-  if (v != std::floor(v) || v < static_cast<double>(min) || v > 9.0e15)
-    fail(n, file, key, "expected a whole number ≥ " + std::to_string(min) + ", found " + n.Scalar());
+  if (v != std::floor(v) || v < static_cast<double>(min) || v > static_cast<double>(max))
+    fail(n, file, key,
+         "expected a whole number " +
+             (max < 9'000'000'000'000'000L ? "from " + std::to_string(min) + " to " + std::to_string(max)
+                                           : "≥ " + std::to_string(min)) +
+             ", found " + n.Scalar());
   return static_cast<long>(v);
 }
 
@@ -88,7 +93,7 @@ void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOpt
     }
   }
   if (n["max_steps"]) o.max_steps = read_integer(n["max_steps"], file, key + ".max_steps", 1);
-  if (n["max_order"]) o.max_order = static_cast<int>(read_integer(n["max_order"], file, key + ".max_order", 1));
+  if (n["max_order"]) o.max_order = static_cast<int>(read_integer(n["max_order"], file, key + ".max_order", 1, 12));
   if (n["initial_step"]) o.initial_step = read_number(n["initial_step"], file, key + ".initial_step");
   if (n["max_step"]) o.max_step = read_number(n["max_step"], file, key + ".max_step");
   if (n["jacobian"])
@@ -198,6 +203,7 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
     st.scene = parse_scene_node(scene, path, st.text);
   }
   parse_time(required(doc, "time", path, ""), path, st);
+  st.time_where = location(doc["time"], path);
   if (doc["solver"]) parse_solver(doc["solver"], path, st.solver, st.constraints);
   if (const YAML::Node s = doc["sensitivities"]; s && !s.IsNull()) {
     require_sequence(s, path, "sensitivities");

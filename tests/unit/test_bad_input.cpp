@@ -187,6 +187,16 @@ std::vector<Case> scene_cases() {
       {"DeepYamlNesting", Kind::scene, "kanesens: 1\nscene: " + std::string(20000, '[') + std::string(20000, ']') + "\n", {"s.yaml:", "malformed YAML"}},
       {"YamlAliasToItself", Kind::scene, "kanesens: 1\nscene: &a {name: x, bodies: [*a], joints: []}\n", {"s.yaml:2:", "scene.bodies[0]", "unknown key"}},
       {"NonScalarMapKey", Kind::scene, edit(s, "{m: 1, L: 1}", "{[a]: 1, L: 1}"), {"s.yaml:5:", "scene.parameters", "expected a parameter name"}},
+      // Input is UTF-8 text: names end up in JSON, HDF5 strings and messages.
+      {"InvalidUtf8InName", Kind::scene, edit(s, "name: two", "name: \"tw\xC3\x28\""), {"s.yaml:3:12", "invalid UTF-8 (byte 0xC3)"}},
+      {"OverlongUtf8", Kind::scene, edit(s, "name: two", "name: \"t\xC0\xAFo\""), {"s.yaml:3:", "invalid UTF-8 (byte 0xC0)"}},
+      {"Utf8Surrogate", Kind::scene, edit(s, "name: two", "name: \"t\xED\xA0\x80o\""), {"s.yaml:3:", "invalid UTF-8 (byte 0xED)"}},
+      {"TruncatedUtf8AtEnd", Kind::scene, s + "# \xE2\x82", {"invalid UTF-8 (byte 0xE2)"}},
+      {"ControlCharacter", Kind::scene, edit(s, "name: two", "name: \"t\x01o\""), {"s.yaml:3:", "control character 0x01"}},
+      {"NulCharacter", Kind::scene, edit(s, "name: two", std::string("name: \"t\0o\"", 12)), {"s.yaml:3:", "control character 0x00"}},
+      // An unknown name of 250 000 characters: the did-you-mean search stays linear and the
+      // message stays one readable line.
+      {"HugeUnknownName", Kind::scene, edit(s, "parent: a,", "parent: " + std::string(250000, 'a') + ","), {"s.yaml:11:", "scene.joints[1].parent", "bytes ...]"}},
   };
 }
 
@@ -205,6 +215,7 @@ std::vector<Case> study_cases() {
       {"StudyNegativeRtol", Kind::study, s + "solver: {rtol: -1}\n", {"StudyNegativeRtol.yaml:15:", "solver", "rtol"}},
       {"StudyRtolWrongType", Kind::study, s + "solver: {rtol: tight}\n", {"StudyRtolWrongType.yaml:15:", "solver.rtol", "expected a number"}},
       {"StudyUnknownSolverMethod", Kind::study, s + "solver: {method: rk4}\n", {"StudyUnknownSolverMethod.yaml:15:", "solver.method", "expected one of bdf, adams"}},
+      {"StudyMaxOrderOverflow", Kind::study, s + "solver: {max_order: 4294967297}\n", {"StudyMaxOrderOverflow.yaml:15:", "solver.max_order", "from 1 to 12"}},
       {"StudyDop853MaxOrder", Kind::study, s + "solver: {method: dop853, max_order: 5}\n", {"StudyDop853MaxOrder.yaml:15:", "solver.max_order", "dop853"}},
       {"StudyAdamsProjection", Kind::study, s + "solver: {method: adams, constraints: {stabilization: projection}}\n", {"StudyAdamsProjection.yaml:15:", "solver", "projection needs method: bdf or dop853"}},
       {"StudyUniformLowNotBelowHigh", Kind::study, edit(s, "low: 0.5, high: 1.5", "low: 1.5, high: 0.5"), {"StudyUniformLowNotBelowHigh.yaml:13:", "vary.m.high", "expected low < high"}},
