@@ -42,13 +42,21 @@ void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q,
 template <class S>
 void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u);
 // After solve_accelerations (ws.udot = M⁻¹ f): the multipliers λ and u̇ = M⁻¹(f + Aᵀλ).
+// Returns false when no multiplier can be determined: every constraint row vanishes (rank 0)
+// or the system is not finite. Redundant rows (0 < rank < rows) get the minimum-norm λ.
 template <class S>
 bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws);
 
-// The whole right-hand side: y = [q; u] (nq + nu) → ydot = [q̇; u̇]. Returns false if M is
-// singular. Parameters must have been set.
+// Why evaluate_rhs could not compute u̇ at a state.
+enum class RhsFailure { none, mass_matrix_not_positive_definite, constraints_degenerate };
+// "mass matrix is not positive definite", ... (for messages).
+const char* describe(RhsFailure failure);
+
+// The whole right-hand side: y = [q; u] (nq + nu) → ydot = [q̇; u̇]. Returns false if u̇ could
+// not be computed (then `failure`, if given, says why, and ydot must not be used): M is not
+// positive definite, or the constraint system is degenerate. Parameters must have been set.
 template <class S>
-bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot);
+bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot, RhsFailure* failure = nullptr);
 // Position, velocity, M and f at (t, q, u), without the solve.
 template <class S>
 void evaluate_mass_matrix_and_forcing(const Model& m, Workspace<S>& ws, const S& t, const S* q, const S* u);

@@ -6,6 +6,7 @@
 
 #include "kane/equations.hpp"
 #include "model/build_model.hpp"
+#include "sim/initial_checks.hpp"
 #include "util/error.hpp"
 
 namespace kanesens {
@@ -100,11 +101,21 @@ void KaneProblem::initial_state_dual(int i, std::vector<Dual>& y0) const {
   for (int s = 0; s < model_.nstate(); ++s)
     if (inputs_.initial_set[s]) y0[s] = Dual(inputs_.initial_values[s], 0);
   if (i >= 0 && sens_[i].kind == InputRef::Kind::initial_condition) y0[sens_[i].index].d = 1;
-  for (const Joint& j : model_.joints) {
+  for (std::size_t ji = 0; ji < model_.joints.size(); ++ji) {
+    const Joint& j = model_.joints[ji];
     if (j.quaternion_offset < 0) continue;
     Dual* e = y0.data() + j.quaternion_offset;
+    const JointSpec& js = model_.spec.joints[ji];
+    const SourceLocation where = js.q0.empty() ? js.where : js.q0[0].where;
+    // Scaled by its largest component first (a constant: the tangent of the normalised result is
+    // unchanged), so that 1e200 or 1e-200 components normalise instead of overflowing.
+    double largest = 0;
+    for (int c = 0; c < 4; ++c) largest = std::max(largest, std::abs(e[c].v));
+    if (!std::isfinite(largest))
+      throw InputError(where, js.key + ".q0", "the initial quaternion of joint '" + j.name + "' is not finite");
+    if (!(largest > 0)) throw InputError(where, js.key + ".q0", "the initial quaternion of joint '" + j.name + "' is zero");
+    for (int c = 0; c < 4; ++c) e[c] = e[c] / largest;
     const Dual n = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3]);
-    if (!(n.v > 0)) throw InputError({}, j.name + ".q0", "the initial quaternion of joint '" + j.name + "' is zero");
     for (int c = 0; c < 4; ++c) e[c] = e[c] / n;
   }
   if (model_.nconstraint_rows > 0 && options_.correct_initial) make_consistent(y0, ws);
@@ -185,6 +196,17 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
     if (inputs_.initial_set[static_cast<std::size_t>(s)]) given[static_cast<std::size_t>(s)] = 2;
   for (const InputRef& r : sens_)
     if (r.kind == InputRef::Kind::initial_condition) given[static_cast<std::size_t>(r.index)] = 2;
+  // A constraint that constrains nothing here (or is not finite) has no dependent coordinate
+  // to correct: name it instead of decomposing an empty matrix.
+  {
+    std::vector<Dual> ud(u, u + nu);
+    evaluate_state_expressions(model_, ws, Dual(t0), q, ud.data());
+    compute_position(model_, ws, q);
+    compute_velocity(model_, ws, ud.data());
+    compute_kinematic_derivatives(model_, ws, q, ud.data());
+    compute_constraints(model_, ws, q, ud.data());
+    check_constraint_rows(model_, ws, t0);
+  }
   auto dependent_order = [&](int offset, int count, const std::vector<int>& excluded) {
     std::vector<int> order;
     for (int pass = 0; pass < 3; ++pass)
@@ -217,6 +239,12 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
         gmax = std::max(gmax, std::abs(gd[r].v));
       }
       if (gmax < 1e-13) ++converged;  // one more step after convergence settles the tangents
+      if (dep.empty()) {  // no coordinate moves the constraints: nothing to correct
+        if (gmax < 1e-13) break;
+        throw InputError(model_.spec.where, "scene.constraints",
+                         "the position constraints are violated at t0 (residual " + std::to_string(gmax) +
+                             ") and no coordinate changes them");
+      }
       values();
       position_constraints(t0, qv.data(), g, &G);
       Eigen::MatrixXd Gd(mh, static_cast<Eigen::Index>(dep.size()));
@@ -233,7 +261,11 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
         q[dep[c]].d -= dt[static_cast<Eigen::Index>(c)];
         dq_max = std::max(dq_max, std::abs(dv[static_cast<Eigen::Index>(c)]));
       }
-      if (iter == 49) throw InputError({}, "initial conditions", "cannot satisfy the position constraints at t0 (Newton did not converge; residual " + std::to_string(gmax) + ")");
+      if (iter == 49)
+        throw InputError(model_.spec.where, "scene.constraints",
+                         "cannot satisfy the position constraints at t0 from the given initial coordinates (Newton did "
+                         "not converge; residual " + std::to_string(gmax) + "): constraints that contradict each other, or "
+                         "initial values too far from any assembly?");
     }
   }
   // Speeds: the velocity residual A u + a0 is linear in u. Dependent speeds are chosen like the
@@ -255,6 +287,7 @@ void KaneProblem::make_consistent(std::vector<Dual>& y0, const Workspace<Dual>& 
       rt[r] = ws.velocity_residual[r].d;
     }
     if (iter == 0) dep_u = choose_dependent(A, dependent_order(nq, nu, std::vector<int>(static_cast<std::size_t>(nu), 0)));
+    if (dep_u.empty()) break;  // A vanishes (a redundant, all-zero system): nothing to correct
     Eigen::MatrixXd Ad(m, static_cast<Eigen::Index>(dep_u.size()));
     for (std::size_t c = 0; c < dep_u.size(); ++c) Ad.col(static_cast<Eigen::Index>(c)) = A.col(dep_u[c]);
     Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Ad);
@@ -339,8 +372,9 @@ int KaneProblem::project(double t, const double* y, double* corr, double, double
 void KaneProblem::multipliers(double t, const double* y, double* lambda) {
   std::vector<double> ydot(static_cast<std::size_t>(model_.nstate()));
   sync_dq_parameters();
-  evaluate_rhs(model_, ws_, t, y, ydot.data());
-  for (int r = 0; r < model_.nconstraint_rows; ++r) lambda[r] = ws_.multipliers[r];
+  // Where λ cannot be determined it is recorded as NaN, never as a silent 0.
+  const bool ok = evaluate_rhs(model_, ws_, t, y, ydot.data());
+  for (int r = 0; r < model_.nconstraint_rows; ++r) lambda[r] = ok ? ws_.multipliers[r] : std::nan("");
 }
 
 void KaneProblem::multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda) {
@@ -348,8 +382,8 @@ void KaneProblem::multiplier_sensitivity(double t, const double* y, int i, const
   const int n = model_.nstate();
   std::vector<Dual> yd(static_cast<std::size_t>(n)), ydot(static_cast<std::size_t>(n));
   for (int r = 0; r < n; ++r) yd[static_cast<std::size_t>(r)] = Dual(y[r], s[r]);
-  evaluate_rhs(model_, ws, Dual(t), yd.data(), ydot.data());
-  for (int r = 0; r < model_.nconstraint_rows; ++r) dlambda[r] = ws.multipliers[r].d;
+  const bool ok = evaluate_rhs(model_, ws, Dual(t), yd.data(), ydot.data());
+  for (int r = 0; r < model_.nconstraint_rows; ++r) dlambda[r] = ok ? ws.multipliers[r].d : std::nan("");
 }
 
 void KaneProblem::sensitivity_constraint_residuals(double t, const double* y, int i, const double* s,
@@ -357,7 +391,10 @@ void KaneProblem::sensitivity_constraint_residuals(double t, const double* y, in
   const int n = model_.nstate();
   Workspace<Dual>& ws = ws_sens_[i] ? *ws_sens_[i] : ws_jacobian_;
   for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], s[r]);
-  evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data());
+  if (!evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data())) {
+    position = velocity = std::nan("");
+    return;
+  }
   position = 0;
   velocity = 0;
   for (int r : holonomic_rows_) position = std::max(position, std::abs(ws.position_residual[r].d));
@@ -396,7 +433,10 @@ void KaneProblem::project_sensitivity(double t, const double* y, int i, double* 
 void KaneProblem::constraint_residuals(double t, const double* y, double& position, double& velocity) {
   std::vector<double> ydot(static_cast<std::size_t>(model_.nstate()));
   sync_dq_parameters();
-  evaluate_rhs(model_, ws_, t, y, ydot.data());
+  if (!evaluate_rhs(model_, ws_, t, y, ydot.data())) {
+    position = velocity = std::nan("");
+    return;
+  }
   position = 0;
   velocity = 0;
   for (int r : holonomic_rows_) position = std::max(position, std::abs(ws_.position_residual[r]));
@@ -472,25 +512,25 @@ void KaneProblem::rhs(double t, const double* y, double* ydot) {
   sync_dq_parameters();
   if (embedded_) {
     if (!embedded_rhs(model_, ws_, *sc_, sets_, t, y, ydot))
-      throw std::runtime_error("embedding: singular mass matrix or dependent-speed matrix at t = " + std::to_string(t));
+      throw solve::RecoverableError("embedding: singular mass matrix or dependent-speed matrix");
     if (sc_->conditioning > 1e10)
       throw std::runtime_error("embedding: the independent speeds chosen at t0 no longer parameterise the motion at t = " +
                                std::to_string(t) + " (dependent-speed matrix conditioning " +
                                std::to_string(sc_->conditioning) + "); use formulation: multipliers");
     return;
   }
-  if (!evaluate_rhs(model_, ws_, t, y, ydot))
-    throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
+  RhsFailure why = RhsFailure::none;
+  if (!evaluate_rhs(model_, ws_, t, y, ydot, &why)) throw solve::RecoverableError(describe(why));
 }
 
 void KaneProblem::jacobian(double t, const double* y, const double*, double* J) {
   const int n = size();
   for (int c = 0; c < n; ++c) {
     for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], r == c ? 1.0 : 0.0);
+    RhsFailure why = RhsFailure::mass_matrix_not_positive_definite;
     const bool ok = embedded_ ? embedded_rhs(model_, ws_jacobian_, *sc_dual_, sets_, Dual(t), y_dual_.data(), ydot_dual_.data())
-                              : evaluate_rhs(model_, ws_jacobian_, Dual(t), y_dual_.data(), ydot_dual_.data());
-    if (!ok)
-      throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
+                              : evaluate_rhs(model_, ws_jacobian_, Dual(t), y_dual_.data(), ydot_dual_.data(), &why);
+    if (!ok) throw solve::RecoverableError(describe(why));
     for (int r = 0; r < n; ++r) J[r + c * n] = ydot_dual_[r].d;
   }
 }
@@ -500,10 +540,10 @@ void KaneProblem::sensitivity_rhs(double t, const double* y, const double*, int 
   const int n = size();
   Workspace<Dual>& ws = dual_workspace(i);
   for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], s[r]);
+  RhsFailure why = RhsFailure::mass_matrix_not_positive_definite;
   const bool ok = embedded_ ? embedded_rhs(model_, ws, *sc_dual_, sets_, Dual(t), y_dual_.data(), ydot_dual_.data())
-                            : evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data());
-  if (!ok)
-    throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
+                            : evaluate_rhs(model_, ws, Dual(t), y_dual_.data(), ydot_dual_.data(), &why);
+  if (!ok) throw solve::RecoverableError(describe(why));
   for (int r = 0; r < n; ++r) sdot[r] = ydot_dual_[r].d;
 }
 

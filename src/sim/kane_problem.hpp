@@ -38,6 +38,11 @@ class KaneProblem final : public solve::OdeProblem {
     return embedded_ ? model_.nq + static_cast<int>(sets_.independent.size()) : model_.nstate();
   }
   void initial_state(double* y0) const override;
+  // Checks the current sample at t0 as validation does before a run (sim/initial_checks.cpp):
+  // its consistent initial state exists (no constraint vanishes or is non-finite there, the
+  // correction converges) and Kane's equations give finite values there with a positive
+  // definite mass matrix. Throws InputError naming what is wrong and where it was written.
+  void check_initial_state() const;
   void rhs(double t, const double* y, double* ydot) override;
   bool has_jacobian() const override { return true; }
   void jacobian(double t, const double* y, const double* ydot, double* J) override;

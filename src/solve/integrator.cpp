@@ -57,6 +57,17 @@ struct CallbackData {
     return -1;
   }
 
+  // The callback could not evaluate at this trial state (RecoverableError): +1, CVODES retries
+  // with a smaller step; the message is reported if it gives up.
+  int recover(const char* where, double t, const char* what) noexcept {
+    ++recoverable;
+    try {
+      callback_message = std::string(where) + " failed at t = " + format_time(t) + ": " + what;
+    } catch (...) {
+    }
+    return 1;
+  }
+
   // Scan a callback's output; a NaN or Inf makes the step fail recoverably (+1), so CVODES
   // retries with a smaller step; if that keeps happening it gives up with a flag < 0.
   int check_finite(const char* where, double t, const double* v, long count) noexcept {
@@ -90,6 +101,8 @@ int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) no
     double* f = N_VGetArrayPointer(ydot);
     cb.problem->rhs(t, N_VGetArrayPointer(y), f);
     return cb.check_finite("rhs", t, f, cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("rhs", t, e.what());
   } catch (const std::exception& e) {
     return cb.fail("rhs", t, e.what());
   } catch (...) {
@@ -105,6 +118,8 @@ int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* us
     double* jac = SUNDenseMatrix_Data(J);
     cb.problem->jacobian(t, N_VGetArrayPointer(y), N_VGetArrayPointer(fy), jac);
     return cb.check_finite("jacobian", t, jac, static_cast<long>(cb.n) * cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("jacobian", t, e.what());
   } catch (const std::exception& e) {
     return cb.fail("jacobian", t, e.what());
   } catch (...) {
@@ -120,6 +135,8 @@ int sens_rhs_trampoline(int /*Ns*/, sunrealtype t, N_Vector y, N_Vector ydot, in
     cb.problem->sensitivity_rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), iS,
                                 N_VGetArrayPointer(yS), sdot);
     return cb.check_finite("sensitivity_rhs", t, sdot, cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("sensitivity_rhs", t, e.what());
   } catch (const std::exception& e) {
     return cb.fail("sensitivity_rhs", t, e.what());
   } catch (...) {
