@@ -271,6 +271,15 @@ struct Prepared {
     if (st.record.count("sensitivities") && sens.empty())
       throw InputError(st.record_where, "record", "'sensitivities' is recorded but the study lists no sensitivities");
     if (!flags.sensitivities) sens.clear();  // what is not recorded is not computed
+    {
+      // The nominal sample at its initial state: a constraint that constrains nothing there,
+      // equations that are not finite or a mass matrix that is not positive definite are found
+      // now, not in every sample after the file exists.
+      KaneProblem nominal(model, sens, st.constraints);
+      nominal.set_initial_time(st.output_times.front());
+      nominal.set_sample(base);
+      nominal.check_initial_state();
+    }
 
     layout.times = st.output_times;
     layout.state_names = model.state_names;

@@ -1,5 +1,7 @@
 #include "scene/parse_scene.hpp"
 
+#include <algorithm>
+
 #include "scene/yaml_util.hpp"
 
 namespace kanesens {
@@ -160,9 +162,12 @@ ConstraintSpec parse_constraint(const YAML::Node& n, const std::string& file, co
     if (c.type == "distance") c.length = read_expr(required(n, "length", file, key), file, key + ".length");
     if (const YAML::Node comp = n["components"]) {
       require_sequence(comp, file, key + ".components");
+      if (comp.size() == 0) fail(comp, file, key + ".components", "expected 1 to 3 of x, y, z; found an empty list");
       for (std::size_t i = 0; i < comp.size(); ++i) {
         const std::string x = read_string(comp[i], file, key + ".components[" + std::to_string(i) + "]");
         if (x != "x" && x != "y" && x != "z") fail(comp[i], file, key + ".components", "expected x, y or z, found '" + x + "'");
+        if (std::find(c.components.begin(), c.components.end(), x) != c.components.end())
+          fail(comp[i], file, key + ".components", "component '" + x + "' is given twice");
         c.components.push_back(x);
       }
     }
@@ -178,7 +183,10 @@ ConstraintSpec parse_constraint(const YAML::Node& n, const std::string& file, co
     if (const YAML::Node a = n["a"]) {
       require_map(a, file, key + ".a");
       for (const auto& kv : a) {
-        const std::string speed = kv.first.as<std::string>();
+        if (!kv.first.IsScalar()) fail(kv.first, file, key + ".a", "expected a speed name, found a map or list");
+        const std::string speed = kv.first.Scalar();
+        for (const auto& entry : c.a)
+          if (entry.first == speed) fail(kv.first, file, key + ".a." + speed, "speed '" + speed + "' is given twice");
         c.a.emplace_back(speed, read_expr(kv.second, file, key + ".a." + speed));
       }
     }
@@ -214,6 +222,7 @@ SceneSpec parse_scene_node(const YAML::Node& n, const std::string& file, const s
   SceneSpec s;
   s.file = file;
   s.text = text;
+  s.where = location(n, file);
   s.name = read_string(required(n, "name", file, key), file, key + ".name");
   s.gravity = n["gravity"] ? read_vec3(n["gravity"], file, key + ".gravity") : zero_vec3();
   if (const YAML::Node p = n["parameters"]) {
