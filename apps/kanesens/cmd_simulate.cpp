@@ -138,6 +138,9 @@ int run_simulate(const SimulateOptions& o) {
   }
   std::vector<InputRef> sens;
   for (std::size_t i = 0; i < sens_names.size(); ++i)
+    for (std::size_t k = 0; k < i; ++k)
+      if (sens_names[k] == sens_names[i]) throw InputError({}, "--sens", "'" + sens_names[i] + "' is listed twice");
+  for (std::size_t i = 0; i < sens_names.size(); ++i)
     sens.push_back(resolve_input(m, sens_names[i], o.sens.empty() ? "sensitivities[" + std::to_string(i) + "]" : "--sens"));
   KaneProblem problem(m, sens, study.constraints);
   problem.set_initial_time(study.output_times.front());

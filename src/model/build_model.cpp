@@ -131,7 +131,7 @@ class Builder {
 
   void build_bodies() {
     if (spec_.bodies.size() > kMaxBodies)
-      fail({spec_.file, 0, 0}, "scene.bodies",
+      fail(spec_.where.file.empty() ? SourceLocation{spec_.file, 0, 0} : spec_.where, "scene.bodies",
            std::to_string(spec_.bodies.size()) + " bodies; kanesens handles at most " + std::to_string(kMaxBodies) +
                " (its mass matrix is dense)");
     for (const auto& b : spec_.bodies) {
@@ -270,7 +270,7 @@ class Builder {
     m_.nq = q;
     m_.nu = u;
     if (u == 0)
-      fail({spec_.file, 0, 0}, "scene.joints",
+      fail(spec_.where.file.empty() ? SourceLocation{spec_.file, 0, 0} : spec_.where, "scene.joints",
            "the scene has no degrees of freedom (every joint is a weld): there is nothing to integrate");
   }
 
@@ -598,7 +598,7 @@ class Builder {
 }  // namespace
 
 Model build_model(const SceneSpec& spec, const std::map<std::string, double>& overrides) {
-  if (spec.bodies.empty()) throw InputError({spec.file, 0, 0}, "scene.bodies", "a scene needs at least one body");
+  if (spec.bodies.empty()) throw InputError(spec.where.file.empty() ? SourceLocation{spec.file, 0, 0} : spec.where, "scene.bodies", "a scene needs at least one body");
   return Builder(spec, overrides).build();
 }
 

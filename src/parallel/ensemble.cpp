@@ -25,6 +25,7 @@
 #include "study/parse_vary.hpp"
 #include "study/study_spec.hpp"
 #include "study/yaml_read.hpp"
+#include "util/did_you_mean.hpp"
 #include "util/version.hpp"
 
 namespace kanesens::parallel {
@@ -271,6 +272,16 @@ struct Prepared {
     if (st.record.count("sensitivities") && sens.empty())
       throw InputError(st.record_where, "record", "'sensitivities' is recorded but the study lists no sensitivities");
     if (!flags.sensitivities) sens.clear();  // what is not recorded is not computed
+    if (!st.solver.atol_per_state.empty()) {
+      if (static_cast<int>(st.solver.atol_per_state.size()) != model.nstate())
+        throw InputError(st.atol_where, "solver.atol",
+                         "expected one entry per state (" + std::to_string(model.nstate()) + ": " +
+                             join_names(model.state_names) + "), found " + std::to_string(st.solver.atol_per_state.size()));
+      if (model.nconstraint_rows > 0 && st.constraints.formulation == ConstraintOptions::Formulation::embedding)
+        throw InputError(st.atol_where, "solver.atol",
+                         "a list of per-state tolerances is not supported with formulation: embedding (it integrates "
+                         "fewer states); give one number");
+    }
     {
       // The nominal sample at its initial state: a constraint that constrains nothing there,
       // equations that are not finite or a mass matrix that is not positive definite are found

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -72,9 +73,17 @@ void parse_time(const YAML::Node& n, const std::string& file, StudySpec& st) {
   if (outputs > 10000000) fail(n["outputs"], file, key + ".outputs", "at most 10000000 outputs");
   for (long k = 0; k < outputs; ++k)
     st.output_times.push_back(k == outputs - 1 ? end : start + (end - start) * static_cast<double>(k) / static_cast<double>(outputs - 1));
+  // end − start can overflow, and a span tiny against |start| rounds outputs onto each other.
+  for (std::size_t i = 0; i < st.output_times.size(); ++i)
+    if (!std::isfinite(st.output_times[i]) || (i > 0 && !(st.output_times[i] > st.output_times[i - 1])))
+      fail(n, file, key,
+           "the " + std::to_string(outputs) + " output times from " + n["start"].as<std::string>("0") + " to " +
+               n["end"].Scalar() + " are not " + (std::isfinite(st.output_times[i]) ? "distinct" : "finite") +
+               " in double precision (output " + std::to_string(i) + "); use fewer outputs or a smaller start");
 }
 
-void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOptions& o, ConstraintOptions& co) {
+void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOptions& o, ConstraintOptions& co,
+                  bool has_constraints, StudySpec& st) {
   const std::string key = "solver";
   check_keys(n, file, key, {"method", "iteration", "rtol", "atol", "max_steps", "max_order", "initial_step",
                             "max_step", "jacobian", "sensitivity", "constraints"});
@@ -85,6 +94,7 @@ void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOpt
                                          {{"newton", Iteration::newton}, {"functional", Iteration::functional}});
   if (n["rtol"]) o.rtol = read_number(n["rtol"], file, key + ".rtol");
   if (n["atol"]) {
+    st.atol_where = location(n["atol"], file);
     if (n["atol"].IsSequence()) {
       for (std::size_t i = 0; i < n["atol"].size(); ++i)
         o.atol_per_state.push_back(read_number(n["atol"][i], file, key + ".atol[" + std::to_string(i) + "]"));
@@ -135,9 +145,14 @@ void parse_solver(const YAML::Node& n, const std::string& file, solve::SolverOpt
     if (c["project_sensitivities"])
       co.project_sensitivities = read_bool(c["project_sensitivities"], file, k2 + ".project_sensitivities");
   }
+  // Projection is the default stabilization, so a constrained scene with adams and no explicit
+  // solver.constraints would fail at its first step: refuse it here.
   if (co.stabilization == ConstraintOptions::Stabilization::projection && o.method == solve::Method::adams &&
-      n["constraints"])
-    fail(n, file, key, "constraint projection needs method: bdf or dop853 (CVODES projects only with BDF); use stabilization: baumgarte with adams");
+      (n["constraints"] || has_constraints))
+    fail(n["constraints"] ? n["constraints"] : n["method"], file, n["constraints"] ? key + ".constraints" : key + ".method",
+         std::string(n["constraints"] ? "" : "the scene has constraints and their default stabilization is projection; ") +
+             "constraint projection needs method: bdf or dop853 (CVODES projects only with BDF); with adams set "
+             "solver.constraints.stabilization: baumgarte (or none)");
   try {
     o.validate();
   } catch (const std::invalid_argument& e) {
@@ -204,12 +219,15 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
   }
   parse_time(required(doc, "time", path, ""), path, st);
   st.time_where = location(doc["time"], path);
-  if (doc["solver"]) parse_solver(doc["solver"], path, st.solver, st.constraints);
+  if (doc["solver"]) parse_solver(doc["solver"], path, st.solver, st.constraints, !st.scene.constraints.empty(), st);
   if (const YAML::Node s = doc["sensitivities"]; s && !s.IsNull()) {
     require_sequence(s, path, "sensitivities");
-    for (std::size_t i = 0; i < s.size(); ++i)
-    {
-      st.sensitivities.push_back(read_string(s[i], path, "sensitivities[" + std::to_string(i) + "]"));
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const std::string key = "sensitivities[" + std::to_string(i) + "]";
+      const std::string name = read_string(s[i], path, key);
+      if (std::find(st.sensitivities.begin(), st.sensitivities.end(), name) != st.sensitivities.end())
+        fail(s[i], path, key, "'" + name + "' is listed twice");
+      st.sensitivities.push_back(name);
       st.sensitivity_where.push_back(location(s[i], path));
     }
   }

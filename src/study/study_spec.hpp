@@ -28,6 +28,7 @@ struct StudySpec {
   YAML::Node sampling, vary;     // the `sampling:` and `vary:` maps (may be null)
   SourceLocation sampling_where, vary_where;
   SourceLocation time_where;  // the `time:` map (messages about the number of outputs)
+  SourceLocation atol_where;  // solver.atol, when given
   // Parameter and initial-condition values given with --set ("m2" → 0.9, "elbow.q0" → 0.3).
   std::map<std::string, double> set_inputs;
 };

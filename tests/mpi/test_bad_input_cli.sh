@@ -159,5 +159,41 @@ for bad in "long_status:dataset /status has shape (9), this study writes (6)" \
   [[ "$before" == "$(md5sum < "$name.h5")" ]] || { echo "FAIL: $name.h5 was modified"; failures=$((failures + 1)); }
 done
 
+# ---- Found at validation, before any file, once (rank 0), instead of in every sample --------------
+cat > degenerate.yaml <<'YAML'
+kanesens: 1
+scene:
+  name: p
+  bodies: [{name: b, mass: 1, inertia: {shape: point}}]
+  joints: [{name: j, type: prismatic, parent: ground, child: b, axis: [1, 0, 0]}]
+  constraints: [{name: g, type: general, position: "j.q^2"}]
+time: {end: 1, outputs: 3}
+sampling: {method: mc, samples: 4, seed: 1}
+YAML
+head -6 degenerate.yaml > degenerate_scene.yaml
+expect_bad check-degenerate-constraint "degenerate_scene.yaml:6:17: scene.constraints\[0\]: constraint 'g' constrains nothing at the initial state" - "$KANESENS" check degenerate_scene.yaml
+expect_bad simulate-degenerate-constraint "degenerate.yaml:6:17: scene.constraints\[0\]: constraint 'g' constrains nothing at the initial state" - "$KANESENS" simulate degenerate.yaml
+expect_bad run-degenerate-constraint "degenerate.yaml:6:17: scene.constraints\[0\]: constraint 'g' constrains nothing" out8.h5 mpirun_run degenerate.yaml -o out8.h5
+expect_bad run1-degenerate-constraint "degenerate.yaml:6:17: scene.constraints\[0\]: constraint 'g' constrains nothing" out8.h5 "$KANESENS" run degenerate.yaml -o out8.h5
+sed 's/^time:.*/time: {end: 0.2, outputs: 5}\nsolver: {atol: [1e-8, 1e-8]}/' study.yaml > short_atol.yaml
+expect_bad run-short-atol "short_atol.yaml:4:[0-9]*: solver.atol: expected one entry per state (4: shoulder.q, elbow.q, shoulder.u, elbow.u), found 2" out8.h5 mpirun_run short_atol.yaml -o out8.h5
+sed 's/^sensitivities: \[m2\]/sensitivities: [m2, L1, m2]/' study.yaml > sens_twice.yaml
+expect_bad run-sensitivity-twice "sens_twice.yaml:7:[0-9]*: sensitivities\[2\]: 'm2' is listed twice" out8.h5 mpirun_run sens_twice.yaml -o out8.h5
+expect_bad simulate-sens-twice "--sens: 'm2' is listed twice" - "$KANESENS" simulate study.yaml --sens m2,m2
+printf 'kanesens: 1\nscene: %s\ntime: {end: 1}\nsolver: {method: adams}\n' "$configs/four_bar.yaml" > adams.yaml
+expect_bad simulate-adams-constrained "adams.yaml:4:18: solver.method: the scene has constraints and their default stabilization is projection" - "$KANESENS" simulate adams.yaml
+expect_bad run-adams-constrained "adams.yaml:4:18: solver.method: the scene has constraints" out8.h5 mpirun_run adams.yaml -o out8.h5
+sed 's/^time:.*/time: {start: 1e16, end: 1.000000000000002e16, outputs: 101}/' study.yaml > repeated_times.yaml
+expect_bad run-repeated-times "repeated_times.yaml:3:7: time: the 101 output times .* are not distinct" out8.h5 mpirun_run repeated_times.yaml -o out8.h5
+sed 's/mass: m1,/mass: 1e308,/; s/child_point: \[0, "L1\/2", 0\]/child_point: [0, 1e10, 0]/' "$configs/double_pendulum.yaml" > huge_scene.yaml
+printf 'kanesens: 1\nscene: huge_scene.yaml\ntime: {end: 1}\n' > huge.yaml
+expect_bad run-absurd-mass "huge_scene.yaml:[0-9]*:3: scene: at the initial state (t = 0) .* out of range" out8.h5 mpirun_run huge.yaml -o out8.h5
+printf 'kanesens: 1\nscene:\n  name: w\n  bodies: [{name: b, mass: 1, inertia: {shape: point}}]\n  joints: [{name: j, type: weld, parent: ground, child: b}]\n' > welded.yaml
+expect_bad check-no-degrees-of-freedom "welded.yaml:3:3: scene.joints: the scene has no degrees of freedom" - "$KANESENS" check welded.yaml
+printf 'kanesens: 1\nscene:\n  name: u\n  bodies: [{name: b, mass: 1, inertia: {xx: 1, yy: 1, zz: 1}}]\n  joints: [{name: j, type: universal, parent: ground, child: b, axes: [[1, 0, 0], [2, 0, 0]]}]\n' > universal.yaml
+expect_bad check-universal-parallel-axes "universal.yaml:5:[0-9]*: scene.joints\[0\].axes\[1\]: joint 'j': its two axes are parallel" - "$KANESENS" check universal.yaml
+printf 'kanesens: 1\nscene:\n  name: c\n  bodies: [{name: b, mass: 1, inertia: {shape: point}}]\n  joints: [{name: j, type: prismatic, parent: ground, child: b, axis: [1, 0, 0]}]\n  constraints: [{type: coincident, body_a: b, body_b: ground, components: [x, y, z, x]}]\n' > components.yaml
+expect_bad check-components-repeated "components.yaml:6:[0-9]*: scene.constraints\[0\].components: component 'x' is given twice" - "$KANESENS" check components.yaml
+
 echo "test_bad_input_cli: $cases bad command lines, $failures failed"
 [[ $failures -eq 0 ]]
