@@ -11,9 +11,9 @@
 #include <cstdio>
 #include <vector>
 
-#include "solve/integrator.hpp"
+#include "sim/solve/integrator.hpp"
 
-namespace ks = kanesens::solve;
+namespace ks = kanesens::sim;
 
 // A chain of m unit masses joined by springs k and dampers c, the first tied to the wall:
 // n = 2m states (positions, velocities); sensitivities to k, c and the first initial position.

@@ -1,22 +1,30 @@
 #!/usr/bin/env bash
 # Sets up and runs the main job on the bundled example: installs missing Debian packages, builds
-# kanesens, runs the flagship uncertainty study (configs/double_pendulum_uq.yaml: a Saltelli
-# design over the double pendulum's m2, L1 and initial angle, with forward sensitivities) as an
-# `mpirun -np 2` ensemble into out/double_pendulum_uq.h5, then summarises it, computes Sobol'
-# indices and writes plots (out/*.png) with the Python post-processing package.
+# kanesens, installs the post-processing package (python/) into a venv, runs the flagship
+# uncertainty study (configs/double_pendulum_uq.yaml: a Saltelli design over the double
+# pendulum's m2, L1 and initial angle, with forward sensitivities) as an `mpirun -np 2` ensemble
+# into out/double_pendulum_uq.h5, then summarises it, computes Sobol' indices and writes plots
+# (out/*.png) with `kanesens-post`.
+#   env: KANESENS_RANKS=2 KANESENS_OUT=out KANESENS_VENV=.venv KANESENS_BUILD_DIR=build
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 ranks=${KANESENS_RANKS:-2}
 out=${KANESENS_OUT:-$root/out}
-bash "$root/scripts/install-deps.sh"
-bash "$root/scripts/build.sh"
+venv=${KANESENS_VENV:-$root/.venv}
+build=${KANESENS_BUILD_DIR:-$root/build}
+bash "$root/tools/install-deps.sh"
+bash "$root/tools/build.sh"
+# The package into a venv that sees Debian's numpy, h5py, xarray... (no PyPI: no build
+# isolation, no dependency resolution; see python/README.md).
+[[ -x $venv/bin/pip ]] || /usr/bin/python3 -m venv --system-site-packages "$venv"
+"$venv/bin/pip" install --quiet --disable-pip-version-check --no-build-isolation --no-deps --no-index "$root/python"
+post="$venv/bin/kanesens-post"
 mkdir -p "$out"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 h5="$out/double_pendulum_uq.h5"
 echo "== mpirun -np $ranks kanesens run configs/double_pendulum_uq.yaml -o $h5"
-mpirun -np "$ranks" --oversubscribe "$root/build/kanesens" run "$root/configs/double_pendulum_uq.yaml" \
+mpirun -np "$ranks" --oversubscribe "$build/kanesens" run "$root/configs/double_pendulum_uq.yaml" \
   -o "$h5" --overwrite
-post="$root/scripts/kanesens-post"
 echo "== kanesens-post summary"
 "$post" summary "$h5"
 echo "== kanesens-post sobol (elbow angle at t = 2 s)"

@@ -15,15 +15,19 @@
 #include <iostream>
 #include <random>
 
-#include "ad/dual.hpp"
+#include "math/dual.hpp"
 #include "commands.hpp"
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "sim/kane_problem.hpp"
 #include "util/json_writer.hpp"
 
 namespace kanesens::cli {
+
+using namespace kanesens::dynamics;
+using namespace kanesens::model;
+using namespace kanesens::sim;
 
 namespace {
 struct BenchOptions {

@@ -52,13 +52,18 @@
 #include "commands.hpp"
 #include "model/build_model.hpp"
 #include "sim/simulate.hpp"
-#include "solve/rk4.hpp"
-#include "study/study_spec.hpp"
+#include "sim/solve/rk4.hpp"
+#include "study/setup.hpp"
 #include "util/error.hpp"
 #include "util/json_writer.hpp"
 #include "util/parse_number.hpp"
 
 namespace kanesens::cli {
+
+using namespace kanesens::dynamics;
+using namespace kanesens::model;
+using namespace kanesens::sim;
+using study::StudySpec;
 
 namespace {
 
@@ -140,7 +145,7 @@ struct Row {
   double t_fail = nan_value;
   double wall_median = nan_value, wall_min = nan_value;
   int repeats = 0;
-  solve::SolverStats stats;
+  sim::SolverStats stats;
   Errors err;
   Diagnostics diag;
 };
@@ -151,14 +156,6 @@ struct Setup {
   const Model& model;
   const std::vector<double>& times;
 };
-
-Model build_study_model(const StudySpec& study) {
-  std::map<std::string, double> overrides;
-  for (const auto& [name, v] : study.set_inputs)
-    for (const auto& p : study.scene.parameters)
-      if (p.name == name) overrides[name] = v;
-  return build_model(study.scene, overrides);
-}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -283,8 +280,8 @@ RecordFlags flags_for(const Model& m, bool sens) {
 }
 
 // Configures `opt` for an error-controlled method (CVODES or DOP853); false for an unknown name.
-bool solver_method(const std::string& name, solve::SolverOptions& opt) {
-  using namespace kanesens::solve;
+bool solver_method(const std::string& name, sim::SolverOptions& opt) {
+  using namespace kanesens::sim;
   opt.jacobian = JacobianKind::exact;
   opt.iteration = Iteration::newton;
   opt.sens_rhs = SensitivityRhs::exact;
@@ -314,11 +311,11 @@ Row run_method(const Setup& s, KaneProblem& problem, const std::string& method, 
   const std::size_t ns = static_cast<std::size_t>(problem.num_sensitivities());
   row.with_sens = ns > 0;
   const RecordFlags flags = flags_for(s.model, ns > 0);
-  const solve::RecordFn noop = [](int, double, const double*, const double* const*) {};
+  const sim::RecordFn noop = [](int, double, const double*, const double* const*) {};
   std::vector<double> walls;
 
   if (method == "rk4") {
-    solve::Rk4Options ro;
+    sim::Rk4Options ro;
     ro.h = h;
     ro.sensitivities = ns > 0;
     row.h = 0;
@@ -329,7 +326,7 @@ Row run_method(const Setup& s, KaneProblem& problem, const std::string& method, 
     }
     resize_trajectory(tr, problem, s.times.size(), flags);
     auto t0 = clock::now();
-    tr.result = solve::integrate_rk4(problem, ro, s.times, make_recorder(problem, flags, tr));
+    tr.result = sim::integrate_rk4(problem, ro, s.times, make_recorder(problem, flags, tr));
     const double first = seconds_since(t0);
     if (first > s.o.max_seconds) {
       walls.push_back(first);
@@ -337,12 +334,12 @@ Row run_method(const Setup& s, KaneProblem& problem, const std::string& method, 
     } else {
       for (int r = 0; r < s.o.repeat; ++r) {
         t0 = clock::now();
-        solve::integrate_rk4(problem, ro, s.times, noop);
+        sim::integrate_rk4(problem, ro, s.times, noop);
         walls.push_back(seconds_since(t0));
       }
     }
   } else {
-    solve::SolverOptions opt = s.study.solver;
+    sim::SolverOptions opt = s.study.solver;
     opt.rtol = tol;
     opt.atol = tol * s.o.atol_ratio;
     opt.atol_per_state.clear();
@@ -350,13 +347,13 @@ Row run_method(const Setup& s, KaneProblem& problem, const std::string& method, 
     solver_method(method, opt);
     row.rtol = opt.rtol;
     row.atol = opt.atol;
-    if (problem.has_projection() && opt.method == solve::Method::adams) {
+    if (problem.has_projection() && opt.method == sim::Method::adams) {
       row.skipped = true;
       row.message = "skipped: constraint projection needs BDF (study uses stabilization: projection)";
       return row;
     }
     {
-      solve::Integrator integ(opt);
+      sim::Integrator integ(opt);
       const auto t0 = clock::now();
       simulate(problem, integ, s.times, flags, tr);
       const double first = seconds_since(t0);
@@ -366,7 +363,7 @@ Row run_method(const Setup& s, KaneProblem& problem, const std::string& method, 
       }
     }
     for (int r = 0; r < s.o.repeat && !row.timed_with_recording; ++r) {
-      solve::Integrator integ(opt);
+      sim::Integrator integ(opt);
       const auto t0 = clock::now();
       integ.integrate(problem, s.times, noop);
       walls.push_back(seconds_since(t0));
@@ -486,23 +483,19 @@ int run_bench_workprecision(const WpOptions& o) {
   if (o.repeat < 1) throw InputError({}, "--repeat", "must be at least 1");
   if (!(o.reference_rtol > 0)) throw InputError({}, "--reference-rtol", "must be > 0");
   {
-    solve::SolverOptions probe;
+    sim::SolverOptions probe;
     if (o.reference_method.rfind("sens-", 0) == 0 || !solver_method(o.reference_method, probe))
       throw InputError({}, "--reference-method", "expected bdf-exact, bdf-dq, adams-newton, adams-functional or dop853, got '" +
                                                     o.reference_method + "'");
   }
   if (!(o.atol_ratio > 0)) throw InputError({}, "--atol-ratio", "must be > 0");
   if (!(o.error_floor > 0)) throw InputError({}, "--error-floor", "must be > 0");
-  const StudySpec study = parse_study_file(o.study, o.set);
-  const Model model = build_study_model(study);
+  const study::StudySetup setup = study::setup_study(o.study, o.set);
+  const StudySpec& study = setup.spec;
+  const Model& model = setup.model;
   const Setup s{o, study, model, study.output_times};
-  SampleInputs inputs(model);
-  for (const auto& [name, v] : study.set_inputs)
-    if (std::none_of(study.scene.parameters.begin(), study.scene.parameters.end(), [&](const auto& p) { return p.name == name; }))
-      inputs.set(resolve_input(model, name, "--set " + name), v);
-  std::vector<InputRef> sens_refs;
-  for (std::size_t i = 0; i < study.sensitivities.size(); ++i)
-    sens_refs.push_back(resolve_input(model, study.sensitivities[i], "sensitivities[" + std::to_string(i) + "]"));
+  const SampleInputs& inputs = setup.base;
+  const std::vector<InputRef>& sens_refs = setup.sensitivities;
   const std::size_t ns = sens_refs.size();
 
   const std::vector<double> tols = numbers(o.tolerances, "--tolerances");
@@ -515,7 +508,7 @@ int run_bench_workprecision(const WpOptions& o) {
     }
   }
   for (const std::string& m : methods) {
-    solve::SolverOptions probe;
+    sim::SolverOptions probe;
     if (m != "rk4" && !solver_method(m, probe))
       throw InputError({}, "--methods", "unknown method '" + m + "'; expected bdf-exact, bdf-dq, adams-newton, adams-functional, dop853, rk4, sens-exact, sens-dq");
     if (m.rfind("sens-", 0) == 0 && ns == 0)
@@ -525,11 +518,9 @@ int run_bench_workprecision(const WpOptions& o) {
   for (double v : (o.rk4_steps.empty() ? std::vector<double>{} : numbers(o.rk4_steps, "--rk4-steps")))
     rk4_steps.push_back(static_cast<long>(std::llround(v)));
 
-  KaneProblem plain(model, {}, study.constraints);
-  plain.set_initial_time(study.output_times.front());
+  KaneProblem plain(model, {}, study.constraints, study.output_times.front());
   plain.set_sample(inputs);
-  KaneProblem with(model, sens_refs, study.constraints);
-  with.set_initial_time(study.output_times.front());
+  KaneProblem with(model, sens_refs, study.constraints, study.output_times.front());
   with.set_sample(inputs);
 
   // Reference.
@@ -537,13 +528,13 @@ int run_bench_workprecision(const WpOptions& o) {
   Row ref_row;
   Solution ref;
   if (o.reference_file.empty()) {
-    solve::SolverOptions opt = s.study.solver;
+    sim::SolverOptions opt = s.study.solver;
     opt.rtol = o.reference_rtol;
     opt.atol = o.reference_rtol * o.atol_ratio;
     opt.atol_per_state.clear();
     opt.max_steps = o.reference_max_steps;
     solver_method(o.reference_method, opt);
-    solve::Integrator integ(opt);
+    sim::Integrator integ(opt);
     const auto t0 = std::chrono::steady_clock::now();
     simulate(with, integ, s.times, flags_for(s.model, ns > 0), ref_traj);
     ref_row.wall_median = seconds_since(t0);

@@ -4,13 +4,17 @@
 #include "commands.hpp"
 #include <Eigen/Dense>
 
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
 #include "sim/kane_problem.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "util/did_you_mean.hpp"
 
 namespace kanesens::cli {
+
+using namespace kanesens::dynamics;
+using namespace kanesens::model;
+using namespace kanesens::sim;
 
 CLI::App* add_check(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand("check", "Validate a scene and print its bodies, joints, coordinates, speeds and parameters");
@@ -20,7 +24,7 @@ CLI::App* add_check(CLI::App& app, Action& action) {
     action = [path] {
       const Model m = build_model(parse_scene_file(*path));
       KaneProblem problem(m, {});
-      problem.check_initial_state();  // degenerate constraints, non-finite equations at t = 0
+      problem.validate_initial_state();  // degenerate constraints, non-finite equations at t = 0
       std::cout << "scene '" << m.name << "' (" << *path << "): valid\n";
       std::cout << "  bodies (" << m.nbody() << "):";
       for (const auto& b : m.bodies) std::cout << " " << b.name;

@@ -3,13 +3,16 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "util/json_writer.hpp"
 #include "util/parse_number.hpp"
 
 namespace kanesens::cli {
+
+using namespace kanesens::dynamics;
+using namespace kanesens::model;
 
 namespace {
 struct EomOptions {
@@ -39,7 +42,7 @@ int run_eom(const EomOptions& o) {
   y.insert(y.end(), u.begin(), u.end());
   std::vector<double> ydot(y.size());
   RhsFailure why = RhsFailure::none;
-  const bool ok = evaluate_rhs(m, ws, o.t, y.data(), ydot.data(), &why);
+  const bool ok = evaluate_rhs(m, ws, o.t, y.data(), ydot.data(), {}, &why);
 
   JsonWriter j(std::cout);
   j.begin_object();

@@ -3,13 +3,16 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "model/build_model.hpp"
-#include "parallel/ensemble.hpp"
+#include "parallel/resources.hpp"
 #include "sim/simulate.hpp"
-#include "study/study_spec.hpp"
+#include "study/setup.hpp"
 #include "util/json_writer.hpp"
 
 namespace kanesens::cli {
+
+using namespace kanesens::dynamics;
+using namespace kanesens::model;
+using namespace kanesens::sim;
 
 namespace {
 struct SimulateOptions {
@@ -105,47 +108,42 @@ void print_csv(const Model& m, const KaneProblem& problem, const std::vector<dou
 
 int run_simulate(const SimulateOptions& o) {
   if (o.format != "json" && o.format != "csv") throw InputError({}, "--format", "expected json or csv, found '" + o.format + "'");
-  {
-    // The whole study is checked, as `run` would (sampling and vary too, which simulate does
-    // not use): a typo there is an error here as well, not a surprise hours later.
-    parallel::RunOptions check;
-    check.set = o.set;
-    parallel::validate_study(o.study, check);
-  }
-  StudySpec study = parse_study_file(o.study, o.set);
-  // Parameters given with --set are compiled into the model (a derived parameter becomes a
-  // constant); initial conditions are applied to the sample.
-  std::map<std::string, double> parameter_overrides;
-  for (const auto& [name, v] : study.set_inputs)
-    for (const auto& p : study.scene.parameters)
-      if (p.name == name) parameter_overrides[name] = v;
-  const Model m = build_model(study.scene, parameter_overrides);
-  SampleInputs inputs(m);
-  for (const auto& [name, v] : study.set_inputs)
-    if (!parameter_overrides.count(name)) inputs.set(resolve_input(m, name, "--set " + name), v);
-  std::vector<std::string> sens_names = study.sensitivities;
+  // The whole study is checked, as `run` would (sampling and vary too, which simulate does not
+  // use): a typo there is an error here as well, not a surprise hours later.
+  const study::StudySetup setup = study::setup_study(o.study, o.set);
+  const study::StudySpec& study = setup.spec;
+  const Model& m = setup.model;
+  std::vector<InputRef> sens = setup.sensitivities;
   if (o.sens == "none") {
-    sens_names.clear();
+    sens.clear();
   } else if (!o.sens.empty()) {
-    sens_names.clear();
+    sens.clear();
     std::size_t start = 0;
     for (;;) {
       const auto c = o.sens.find(',', start);
-      sens_names.push_back(o.sens.substr(start, c == std::string::npos ? std::string::npos : c - start));
+      const std::string name = o.sens.substr(start, c == std::string::npos ? std::string::npos : c - start);
+      for (const InputRef& given : sens)
+        if (given.name == name) throw InputError({}, "--sens", "'" + name + "' is listed twice");
+      sens.push_back(resolve_input(m, name, "--sens"));
       if (c == std::string::npos) break;
       start = c + 1;
     }
   }
-  std::vector<InputRef> sens;
-  for (std::size_t i = 0; i < sens_names.size(); ++i)
-    for (std::size_t k = 0; k < i; ++k)
-      if (sens_names[k] == sens_names[i]) throw InputError({}, "--sens", "'" + sens_names[i] + "' is listed twice");
-  for (std::size_t i = 0; i < sens_names.size(); ++i)
-    sens.push_back(resolve_input(m, sens_names[i], o.sens.empty() ? "sensitivities[" + std::to_string(i) + "]" : "--sens"));
-  KaneProblem problem(m, sens, study.constraints);
-  problem.set_initial_time(study.output_times.front());
-  problem.set_sample(inputs);
-  solve::Integrator integrator(study.solver);
+  {
+    // The trajectory is held in memory (and printed): check it fits, as `run` does per rank.
+    const double T = static_cast<double>(study.output_times.size()), S = static_cast<double>(sens.size());
+    const double bytes = 8.0 * T * ((m.nstate() + m.nconstraint_rows) * (1 + S) + 3);
+    const double available = parallel::available_memory_bytes();
+    if (bytes > available)
+      throw InputError(study.time_where, "time",
+                       "the trajectory (" + std::to_string(study.output_times.size()) + " times x " +
+                           std::to_string(m.nstate()) + " states x (1 + " + std::to_string(sens.size()) +
+                           " sensitivities)) needs about " + parallel::human_bytes(bytes) + " of memory but " +
+                           parallel::human_bytes(available) + " is available; use fewer output times or sensitivities");
+  }
+  KaneProblem problem(m, sens, study.constraints, study.output_times.front());
+  problem.set_sample(setup.base);
+  sim::Integrator integrator(study.solver);
   RecordFlags flags;
   flags.states = true;
   flags.sensitivities = !sens.empty();

@@ -6,7 +6,7 @@
 
 #include "commands.hpp"
 #include "util/error.hpp"
-#include "util/version.hpp"
+#include "parallel/version.hpp"
 
 namespace {
 // This process's rank in an MPI job, from the launcher's environment (the command line is parsed
@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (show_version) {
-    std::cout << kanesens::version_report();
+    std::cout << kanesens::parallel::version_report();
     return 0;
   }
   if (!action) {

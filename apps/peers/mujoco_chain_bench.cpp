@@ -7,7 +7,7 @@
 //   mujoco_chain_bench N [--repeat R] [--seed S]    → JSON on stdout
 //
 // The JSON also carries qacc, so a script can check that both engines integrate the same
-// equations (scripts/bench_rhs.sh compares it with `kanesens eom`).
+// equations (bench/bench_rhs.py compares it with `kanesens eom`).
 #include <mujoco/mujoco.h>
 
 #include <algorithm>

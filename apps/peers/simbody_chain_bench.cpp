@@ -1,6 +1,6 @@
 // Simbody peer of `kanesens bench rhs` and `kanesens simulate` on the planar N-link chain
 // (docs/peers.md): N uniform rods (mass 1, length 1, central inertia diag(1/12, YY, 1/12), YY =
-// 1e-4 as in scripts/bench_rhs.sh's scenes, or --yy), pin joints about z (relative angles, body
+// 1e-4 as in bench/bench_rhs.py's scenes, or --yy), pin joints about z (relative angles, body
 // frame at the top end of the rod, mass center 0.5 below it), gravity −y (Force::Gravity).
 //
 //   simbody_chain_bench N [--repeat R] [--seed S] [--batch-seconds B] [--yy YY]

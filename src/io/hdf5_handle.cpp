@@ -22,6 +22,15 @@ std::string take_error_message() {
 
 }  // namespace
 
+std::string hdf5_version() {
+  std::string v = std::to_string(H5_VERS_MAJOR) + "." + std::to_string(H5_VERS_MINOR) + "." +
+                  std::to_string(H5_VERS_RELEASE);
+#ifdef H5_HAVE_PARALLEL
+  v += " (parallel)";
+#endif
+  return v;
+}
+
 void silence_hdf5_errors() {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
 }

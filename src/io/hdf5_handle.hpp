@@ -13,6 +13,9 @@
 
 namespace kanesens::io {
 
+// "1.10.8 (parallel)": the HDF5 this build links.
+std::string hdf5_version();
+
 // Turns off HDF5's automatic printing of its error stack for this process (idempotent).
 void silence_hdf5_errors();
 

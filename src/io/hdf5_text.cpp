@@ -84,6 +84,17 @@ void write_number_attribute(hid_t object, const std::string& name, double value)
   check(H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, &value), "H5Awrite" + where);
 }
 
+void write_numbers_attribute(hid_t object, const std::string& name,
+                             std::span<const double> values) {
+  const std::string where = "(@" + name + ")";
+  const hsize_t n = values.size();
+  Dataspace space(H5Screate_simple(1, &n, nullptr), "H5Screate_simple" + where);
+  Attribute attr(
+      H5Acreate2(object, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+      "H5Acreate2" + where);
+  check(H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, values.data()), "H5Awrite" + where);
+}
+
 std::optional<std::string> read_text_attribute(hid_t object, const std::string& name, std::size_t max_size) {
   const std::string where = "(@" + name + ")";
   const htri_t exists = H5Aexists(object, name.c_str());

@@ -9,6 +9,7 @@
 #include <hdf5.h>
 
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -36,6 +37,8 @@ std::vector<std::string> read_strings(hid_t dataset, std::string_view path);
 // Writes a scalar attribute. Collective under MPI-IO: every rank calls with the same value.
 void write_text_attribute(hid_t object, const std::string& name, std::string_view value);
 void write_number_attribute(hid_t object, const std::string& name, double value);
+// A 1-D float64 attribute (also for 0 values).
+void write_numbers_attribute(hid_t object, const std::string& name, std::span<const double> values);
 
 // The text attribute `name` of `object`, or nullopt when it has none. Throws when it is not one
 // fixed-length string of at most `max_size` bytes.

@@ -10,14 +10,31 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/hdf5_handle.hpp"
 
 namespace kanesens::io {
+
+// Where each sample sits in a Saltelli or Morris design (the /design_* datasets; meaning in
+// docs/reference/hdf5.md): fills block, row and input for samples first .. first + n − 1, n the
+// spans' common size. Called on rank 0 only, while the file is created, a bounded chunk at a time.
+using DesignLabels =
+    std::function<void(std::int64_t first, std::span<std::int64_t> block,
+                       std::span<std::int64_t> row, std::span<std::int64_t> input)>;
+
+// The distribution of one varied input, for the /vary/<name> group.
+struct InputDistribution {
+  std::string name;                                        // one of RunLayout::parameter_names
+  std::string distribution;                                // "uniform", "normal", ..., "fixed"
+  std::vector<std::pair<std::string, double>> parameters;  // {"low", 0.8}, {"high", 1.2}
+  std::vector<double> values;                              // choice: its values; else empty
+};
 
 // What a run records; sizes in brackets. Zero-sized lists are allowed except `times` and
 // `state_names`; a dimension of size 0 and the datasets using it are simply not created.
@@ -33,6 +50,8 @@ struct RunLayout {
   bool record_states = true, record_sensitivities = false, record_multipliers = false;
   std::map<std::string, std::string> text_attributes;  // root: kanesens_version, scene_yaml, ...
   std::map<std::string, double> number_attributes;     // root: mpi_ranks, seed, ...
+  DesignLabels design_labels;                          // empty: no /design_* datasets
+  std::vector<InputDistribution> distributions;        // /vary groups, in parameter order
 };
 
 // One sample's results, written once when the sample ends. A span of a dataset the file does

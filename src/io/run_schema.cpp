@@ -7,7 +7,10 @@
 #include <cstdint>
 #include <limits>
 #include <set>
+#include <span>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "io/hdf5_text.hpp"
 
@@ -252,6 +255,58 @@ std::size_t dimension_length(hid_t file, const std::string& path) {
   return n > 0 ? static_cast<std::size_t>(n) : 0;
 }
 
+// Rank 0 writes the design labels a chunk at a time (memory does not grow with the samples);
+// every rank takes part in creating the datasets (collective metadata).
+void write_design_labels(hid_t file, const RunLayout& l, int rank,
+                         const std::map<std::string, Dataset>& scales) {
+  const hsize_t n = static_cast<hsize_t>(l.nsamples);
+  const std::pair<const char*, const char*> names[] = {
+      {kDesignBlockPath, "saltelli: base point j; morris: trajectory"},
+      {kDesignRowPath, "saltelli: 0 = A_j, 1 = B_j, 2 + k = AB_j^(k); morris: step 0..P"},
+      {kDesignInputPath,
+       "saltelli: k of AB_j^(k), -1 for A_j and B_j; morris: the input the "
+       "step moved (index into /parameter), -1 at step 0"}};
+  std::vector<Dataset> datasets;
+  for (const auto& [path, description] : names) {
+    datasets.push_back(create_dataset(file, path, H5T_STD_I64LE, {n}, nullptr));
+    write_text_attribute(datasets.back().get(), "description", description);
+    attach(datasets.back(), path, {"sample"}, scales);
+  }
+  if (rank != 0) return;
+  constexpr hsize_t kChunk = hsize_t{1} << 16;
+  std::vector<std::int64_t> columns[3];
+  for (auto& c : columns) c.resize(static_cast<std::size_t>(std::min(n, kChunk)));
+  for (hsize_t first = 0; first < n; first += kChunk) {
+    const hsize_t count = std::min(kChunk, n - first);
+    const auto m = static_cast<std::size_t>(count);
+    l.design_labels(static_cast<std::int64_t>(first), std::span(columns[0]).first(m),
+                    std::span(columns[1]).first(m), std::span(columns[2]).first(m));
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::string where = std::string("(") + names[k].first + ")";
+      Dataspace file_space(H5Dget_space(datasets[k].get()), "H5Dget_space" + where);
+      check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, &first, nullptr, &count, nullptr),
+            "H5Sselect_hyperslab" + where);
+      Dataspace memory_space(H5Screate_simple(1, &count, nullptr), "H5Screate_simple" + where);
+      check(H5Dwrite(datasets[k].get(), H5T_NATIVE_INT64, memory_space.get(), file_space.get(),
+                     H5P_DEFAULT, columns[k].data()),
+            "H5Dwrite" + where);
+    }
+  }
+}
+
+// /vary/<name>: one group per varied input, its distribution as attributes (collective).
+void write_distributions(hid_t file, const RunLayout& l) {
+  Group vary(H5Gcreate2(file, kVaryPath, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+             std::string("H5Gcreate2(") + kVaryPath + ")");
+  for (const InputDistribution& d : l.distributions) {
+    Group group(H5Gcreate2(vary.get(), d.name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                std::string("H5Gcreate2(") + kVaryPath + "/" + d.name + ")");
+    write_text_attribute(group.get(), "distribution", d.distribution);
+    for (const auto& [key, value] : d.parameters) write_number_attribute(group.get(), key, value);
+    if (!d.values.empty()) write_numbers_attribute(group.get(), "values", d.values);
+  }
+}
+
 }  // namespace
 
 void validate_layout(const RunLayout& l) {
@@ -264,6 +319,16 @@ void validate_layout(const RunLayout& l) {
   check_names(l.constraint_names, "constraint", false);
   check_names(l.output_names, "output", true);
   check_names(l.stat_names, "solver statistic", true);
+  std::vector<std::string> varied;
+  for (const auto& d : l.distributions) {
+    varied.push_back(d.name);
+    if (std::find(l.parameter_names.begin(), l.parameter_names.end(), d.name) ==
+        l.parameter_names.end()) {
+      throw std::invalid_argument("run file: distribution of '" + d.name +
+                                  "', which is not a parameter");
+    }
+  }
+  check_names(varied, "varied input", true);
 }
 
 void write_schema(hid_t file, const RunLayout& l, int rank, std::size_t message_size) {
@@ -309,6 +374,8 @@ void write_schema(hid_t file, const RunLayout& l, int rank, std::size_t message_
   Dataset message = create_dataset(file, kMessagePath, message_type.get(), {n}, empty.data());
   write_text_attribute(message.get(), "_Encoding", "utf-8");
   attach(message, kMessagePath, {"sample"}, scales);
+  if (l.design_labels) write_design_labels(file, l, rank, scales);
+  if (!l.distributions.empty()) write_distributions(file, l);
 }
 
 void verify_schema(hid_t file, const std::string& path, const RunLayout& l, std::size_t message_size) {

@@ -21,6 +21,10 @@
 //     /solver_stats/<name> (sample)                         float64
 //     /status         (sample)  int32: 0 not run, 1 ok, < 0 failure code
 //     /message        (sample)  string of RunFile::message_size bytes
+//   design labels, written whole at creation (rank 0), only if RunLayout::design_labels is set
+//     /design_block, /design_row, /design_input  (sample)  int64
+//   /vary/<name>   group per RunLayout::distributions entry; attributes: distribution (string),
+//                  its parameters (float64), values (float64 array, choice)
 //   root attributes: RunLayout::text_attributes (strings), number_attributes (float64)
 // All strings are fixed-length, null-padded UTF-8 with _Encoding = "utf-8" (io/hdf5_text.hpp).
 #pragma once
@@ -50,6 +54,10 @@ void verify_schema(hid_t file, const std::string& path, const RunLayout& layout,
 // Dataset paths (absolute) used by RunFile for the per-sample data.
 inline constexpr const char* kStatusPath = "/status";
 inline constexpr const char* kMessagePath = "/message";
+inline constexpr const char* kDesignBlockPath = "/design_block";
+inline constexpr const char* kDesignRowPath = "/design_row";
+inline constexpr const char* kDesignInputPath = "/design_input";
+inline constexpr const char* kVaryPath = "/vary";
 inline std::string output_path(const std::string& name) {
   return "/outputs/" + name;
 }

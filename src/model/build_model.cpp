@@ -5,46 +5,11 @@
 #include <set>
 #include <unordered_map>
 
-#include "model/workspace.hpp"
 #include "util/did_you_mean.hpp"
 
-namespace kanesens {
-
-const char* joint_type_name(JointType t) {
-  switch (t) {
-    case JointType::revolute: return "revolute";
-    case JointType::prismatic: return "prismatic";
-    case JointType::cylindrical: return "cylindrical";
-    case JointType::universal: return "universal";
-    case JointType::planar: return "planar";
-    case JointType::spherical: return "spherical";
-    case JointType::free: return "free";
-    case JointType::weld: return "weld";
-  }
-  return "?";
-}
-
-int Model::find_parameter(const std::string& n) const {
-  for (int i = 0; i < nparam(); ++i)
-    if (parameters[i].name == n) return i;
-  return -1;
-}
-int Model::find_body(const std::string& n) const {
-  if (n == "ground") return -1;
-  for (int i = 0; i < nbody(); ++i)
-    if (bodies[i].name == n) return i;
-  return -2;
-}
-std::vector<double> Model::nominal_parameters() const {
-  std::vector<double> p;
-  for (const auto& par : parameters) p.push_back(par.nominal);
-  return p;
-}
+namespace kanesens::model {
 
 namespace {
-
-const std::vector<std::string> kJointTypes = {"revolute", "prismatic", "cylindrical", "universal",
-                                              "planar",   "spherical", "free",        "weld"};
 
 bool is_identifier(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
@@ -201,13 +166,7 @@ class Builder {
         fail(js.where, js.key + ".name", "duplicate joint name '" + js.name + "'");
       Joint j;
       j.name = js.name;
-      int t = -1;
-      for (std::size_t i = 0; i < kJointTypes.size(); ++i)
-        if (kJointTypes[i] == js.type) t = static_cast<int>(i);
-      if (t < 0)
-        fail(js.where, js.key + ".type", "unknown joint type '" + js.type + "'" + did_you_mean(js.type, kJointTypes) +
-                                             "; types are: " + join_names(kJointTypes));
-      j.type = static_cast<JointType>(t);
+      j.type = js.type;
       j.parent = body_ref(js.parent, js.where, js.key + ".parent");
       j.child = body_ref(js.child, js.where, js.key + ".child");
       if (j.child == -1) fail(js.where, js.key + ".child", "ground cannot be a joint's child; swap parent and child");
@@ -410,8 +369,8 @@ class Builder {
       if (!seen.insert(fs.name).second) fail(fs.where, fs.key + ".name", "duplicate force name '" + fs.name + "'");
       Force f;
       f.name = fs.name;
-      if (fs.type == "spring_damper") {
-        f.kind = Force::Kind::spring_damper;
+      f.kind = fs.kind;
+      if (fs.kind == ForceKind::spring_damper) {
         f.body_a = body_ref(fs.body_a, fs.where, fs.key + ".body_a");
         f.body_b = body_ref(fs.body_b, fs.where, fs.key + ".body_b");
         if (f.body_a == f.body_b) fail(fs.where, fs.key + ".body_b", "a spring_damper needs two different bodies");
@@ -421,12 +380,11 @@ class Builder {
         f.c = add(fs.c, true);
         f.rest = add(fs.rest, false);
       } else {
-        f.kind = fs.type == "force" ? Force::Kind::force : Force::Kind::torque;
         f.body = body_ref(fs.body, fs.where, fs.key + ".body");
         if (f.body < 0) fail(fs.where, fs.key + ".body", "forces on ground do nothing; name a body");
         f.point = add3(fs.point, false);
         f.vector = add3(fs.vector, true);
-        f.body_frame = fs.frame == "body";
+        f.body_frame = fs.body_frame;
       }
       m_.forces.push_back(f);
     }
@@ -471,15 +429,15 @@ class Builder {
     for (std::size_t ci = 0; ci < spec_.constraints.size(); ++ci) {
       const ConstraintSpec& cs = spec_.constraints[ci];
       Constraint c;
-      c.name = cs.name.empty() ? cs.type + std::to_string(ci) : cs.name;
+      c.name = cs.name.empty() ? constraint_kind_name(cs.kind) + std::to_string(ci) : cs.name;
+      c.kind = cs.kind;
       // Row names are "<name>" or "<name>.x": a name must not contain a dot, or "pin" and
       // "pin.x" would both name a row "pin.x".
       if (!is_identifier(c.name))
         fail(cs.where, cs.key + ".name", "'" + c.name + "' is not a valid name (letters, digits, _)");
       if (!seen.insert(c.name).second) fail(cs.where, cs.key + ".name", "duplicate constraint name '" + c.name + "'");
       std::vector<std::string> rows;
-      if (cs.type == "coincident" || cs.type == "distance") {
-        c.kind = cs.type == "coincident" ? Constraint::Kind::coincident : Constraint::Kind::distance;
+      if (cs.kind == ConstraintKind::coincident || cs.kind == ConstraintKind::distance) {
         c.body_a = body_ref(cs.body_a, cs.where, cs.key + ".body_a");
         c.body_b = body_ref(cs.body_b, cs.where, cs.key + ".body_b");
         if (c.body_a == c.body_b) fail(cs.where, cs.key + ".body_b", "a constraint needs two different bodies");
@@ -489,24 +447,24 @@ class Builder {
           c.length = add(cs.length, false);
           rows = {c.name};
         } else {
-          std::vector<std::string> comps = cs.components;
-          if (comps.empty()) comps = planar ? std::vector<std::string>{"x", "y"} : std::vector<std::string>{"x", "y", "z"};
+          std::vector<int> comps = cs.components;
+          if (comps.empty()) comps = planar ? std::vector<int>{0, 1} : std::vector<int>{0, 1, 2};
           // At most the three world components, each once (they index a 3-element array).
           if (comps.size() > 3)
             fail(cs.where, cs.key + ".components", "at most 3 components (x, y, z), found " + std::to_string(comps.size()));
-          std::set<std::string> distinct;
+          std::set<int> distinct;
           for (std::size_t i = 0; i < comps.size(); ++i) {
-            if (comps[i] != "x" && comps[i] != "y" && comps[i] != "z")
-              fail(cs.where, cs.key + ".components", "expected x, y or z, found '" + comps[i] + "'");
+            if (comps[i] < 0 || comps[i] > 2)
+              fail(cs.where, cs.key + ".components", "expected x, y or z, found component " + std::to_string(comps[i]));
             if (!distinct.insert(comps[i]).second)
-              fail(cs.where, cs.key + ".components", "component '" + comps[i] + "' is given twice");
-            c.components[i] = comps[i][0] - 'x';
-            rows.push_back(c.name + "." + comps[i]);
+              fail(cs.where, cs.key + ".components",
+                   std::string("component '") + static_cast<char>('x' + comps[i]) + "' is given twice");
+            c.components[i] = comps[i];
+            rows.push_back(c.name + "." + static_cast<char>('x' + comps[i]));
           }
         }
         c.holonomic.assign(rows.size(), 1);
-      } else if (cs.type == "coupler") {
-        c.kind = Constraint::Kind::coupler;
+      } else if (cs.kind == ConstraintKind::coupler) {
         const int ja = joint_ref(cs.joint_a, cs.where, cs.key + ".joint_a");
         const int jb = joint_ref(cs.joint_b, cs.where, cs.key + ".joint_b");
         for (int j : {ja, jb})
@@ -521,8 +479,7 @@ class Builder {
         c.offset = add(cs.offset, false);
         rows = {c.name};
         c.holonomic = {1};
-      } else if (cs.type == "general") {
-        c.kind = Constraint::Kind::general;
+      } else if (cs.kind == ConstraintKind::general) {
         if (cs.position) {
           c.has_position = true;
           c.position = expr::compile(cs.position->text, position_names_, cs.position->where, cs.position->key);
@@ -561,7 +518,6 @@ class Builder {
         }
         rows = {c.name};
       } else {  // rolling
-        c.kind = Constraint::Kind::rolling;
         c.body = body_ref(cs.body, cs.where, cs.key + ".body");
         if (c.body < 0) fail(cs.where, cs.key + ".body", "the rolling body cannot be ground");
         c.radius = add(cs.radius, false);
@@ -569,7 +525,7 @@ class Builder {
         c.axis = add3(cs.axis, false);
         c.normal = add3(cs.normal, false);
         rows = {c.name + ".x", c.name + ".y", c.name + ".z"};
-        c.holonomic = {0, 0, 0};  // contact-point velocity; see kane/constraints.cpp
+        c.holonomic = {0, 0, 0};  // contact-point velocity; see dynamics/constraints.cpp
       }
       c.row_offset = row;
       c.nrows = static_cast<int>(rows.size());
@@ -602,91 +558,4 @@ Model build_model(const SceneSpec& spec, const std::map<std::string, double>& ov
   return Builder(spec, overrides).build();
 }
 
-std::optional<ParameterProblem> find_parameter_problem(const Model& model, const double* parameters) {
-  Workspace<double> ws(model);
-  set_parameters(model, ws, parameters);
-  const SceneSpec& spec = model.spec;
-  auto problem = [](std::string message, SourceLocation where, std::string key) {
-    return std::optional<ParameterProblem>(ParameterProblem{std::move(message), std::move(where), std::move(key)});
-  };
-  for (int i = 0; i < model.nparam(); ++i)
-    if (!std::isfinite(ws.parameters[i])) {
-      const std::size_t k = static_cast<std::size_t>(i);
-      const SourceLocation w = k < spec.parameters.size() ? spec.parameters[k].value.where : SourceLocation{spec.file, 0, 0};
-      const std::string key = k < spec.parameters.size() ? spec.parameters[k].value.key : "scene.parameters";
-      return problem("parameter '" + model.parameters[i].name + "' is not finite (" + std::to_string(ws.parameters[i]) +
-                         "; a division by zero or a value out of range?)",
-                     w, key);
-    }
-  for (Slot s : model.parameter_slots)
-    if (!std::isfinite(ws.values[s])) {
-      const expr::Expression& e = model.expressions[s];
-      return problem("expression '" + e.text() + "' is not finite (" + std::to_string(ws.values[s]) +
-                         "; a division by zero or a value out of range?)",
-                     e.where(), e.key());
-    }
-  for (int b = 0; b < model.nbody(); ++b) {
-    const std::string& name = model.bodies[b].name;
-    const BodySpec& bs = spec.bodies[static_cast<std::size_t>(b)];
-    const double m = ws.mass[b];
-    if (!(m > 0)) return problem("body '" + name + "': mass must be > 0, found " + std::to_string(m), bs.mass.where, bs.mass.key);
-    const Eigen::Matrix3d I = ws.inertia_body[b];
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
-    const Eigen::Vector3d ev = eig.eigenvalues();
-    const double scale = std::max(1e-300, ev.cwiseAbs().maxCoeff());
-    if (ev.minCoeff() < -1e-12 * scale)
-      return problem("body '" + name + "': inertia is not positive semi-definite (principal moments " +
-                         std::to_string(ev[0]) + ", " + std::to_string(ev[1]) + ", " + std::to_string(ev[2]) + ")",
-                     bs.where, bs.key + ".inertia");
-    if (ev[0] + ev[1] < ev[2] - 1e-9 * scale)
-      return problem("body '" + name + "': inertia violates the triangle inequality (principal moments " +
-                         std::to_string(ev[0]) + " + " + std::to_string(ev[1]) + " < " + std::to_string(ev[2]) + ")",
-                     bs.where, bs.key + ".inertia");
-  }
-  for (std::size_t ji = 0; ji < model.joints.size(); ++ji) {
-    const Joint& j = model.joints[ji];
-    const JointSpec& js = spec.joints[ji];
-    const bool universal = j.type == JointType::universal;
-    auto axis_where = [&](int which) {
-      if (universal && js.axes.size() > static_cast<std::size_t>(which)) return js.axes[static_cast<std::size_t>(which)][0].where;
-      if (js.axis) return (*js.axis)[0].where;
-      return js.where;
-    };
-    const std::string axis_key = universal ? js.key + ".axes" : js.key + ".axis";
-    if (j.axis[0] >= 0 && !(ws.joint_axis[ji].norm() > 0))
-      return problem("joint '" + j.name + "': axis has zero length", axis_where(0), universal ? axis_key + "[0]" : axis_key);
-    if (j.axis2[0] >= 0 && !(ws.joint_axis2[ji].norm() > 0))
-      return problem("joint '" + j.name + "': second axis has zero length", axis_where(1), axis_key + "[1]");
-    if (universal && !(ws.joint_axis[ji].cross(ws.joint_axis2[ji]).norm() >
-                       1e-9 * ws.joint_axis[ji].norm() * ws.joint_axis2[ji].norm()))
-      return problem("joint '" + j.name + "': its two axes are parallel; a universal joint needs two independent axes",
-                     axis_where(1), axis_key + "[1]");
-  }
-  // Constraint sizes that make a row vanish or divide by zero wherever the bodies are.
-  for (std::size_t ci = 0; ci < model.constraints.size() && ci < spec.constraints.size(); ++ci) {
-    const Constraint& c = model.constraints[ci];
-    const ConstraintSpec& cs = spec.constraints[ci];
-    if (c.kind == Constraint::Kind::distance && !(ws.values[c.length] > 0))
-      return problem("constraint '" + c.name + "': length must be > 0, found " + std::to_string(ws.values[c.length]) +
-                         " (points that coincide: use type: coincident)",
-                     cs.length.where, cs.length.key);
-    if (c.kind == Constraint::Kind::rolling) {
-      if (!(ws.values[c.radius] > 0))
-        return problem("constraint '" + c.name + "': radius must be > 0, found " + std::to_string(ws.values[c.radius]),
-                       cs.radius.where, cs.radius.key);
-      auto norm = [&](const Slot3& v) { return Eigen::Vector3d(ws.values[v[0]], ws.values[v[1]], ws.values[v[2]]).norm(); };
-      if (!(norm(c.axis) > 0))
-        return problem("constraint '" + c.name + "': axis has zero length", cs.axis[0].where, cs.key + ".axis");
-      if (!(norm(c.normal) > 0))
-        return problem("constraint '" + c.name + "': normal has zero length", cs.normal[0].where, cs.key + ".normal");
-    }
-  }
-  return std::nullopt;
-}
-
-std::string check_parameters(const Model& model, const double* parameters) {
-  const auto p = find_parameter_problem(model, parameters);
-  return p ? p->message : "";
-}
-
-}  // namespace kanesens
+}  // namespace kanesens::model

@@ -1,5 +1,5 @@
 // The immutable Model: topology, coordinates, speeds, parameters and compiled expressions of a
-// scene. Built once by build_model(); evaluated through Workspace<Scalar> (model/workspace.hpp).
+// scene. Built once by build_model(); evaluated through Workspace<Scalar> (dynamics/workspace.hpp).
 //
 // Notation (docs/scene-format.md): nq coordinates q, nu speeds u, state y = [q; u].
 // Every number of the scene is an expression stored in `expressions`; a "slot" is an index into
@@ -10,13 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "expr/expression.hpp"
-#include "scene/scene_spec.hpp"
+#include "model/expr/expression.hpp"
+#include "model/scene/scene_spec.hpp"
 
-namespace kanesens {
+namespace kanesens::model {
 
-enum class JointType { revolute, prismatic, cylindrical, universal, planar, spherical, free, weld };
-const char* joint_type_name(JointType t);
 
 using Slot = int;
 using Slot3 = std::array<Slot, 3>;
@@ -58,7 +56,7 @@ struct Body {
 };
 
 struct Force {
-  enum class Kind { spring_damper, force, torque };
+  using Kind = ForceKind;
   std::string name;
   Kind kind = Kind::force;
   int body_a = -1, body_b = -1;  // spring_damper (-1 = ground)
@@ -75,7 +73,7 @@ struct Force {
 // the points apart; coupler λ = generalized force on joint_a's speed; rolling λ = contact force
 // on the wheel at the contact point, world components; general λ = generalized force Aᵀλ.
 struct Constraint {
-  enum class Kind { coincident, distance, coupler, general, rolling };
+  using Kind = ConstraintKind;
   std::string name;
   Kind kind = Kind::coincident;
   int row_offset = 0, nrows = 0;
@@ -133,7 +131,7 @@ struct Model {
   // q = 0 frames are parallel, so every body then rotates about z only.) Points, gravity, forces
   // and inertias may be anything: a planar motion's power sees only ω_z, v_x, v_y and τ_z, F_x,
   // F_y, so out-of-plane components cannot change M or f. Planar scenes are evaluated with
-  // 3-component spatial vectors (kane/planar.hpp): a planar scene pays planar work.
+  // 3-component spatial vectors (math/planar.hpp): a planar scene pays planar work.
   bool planar = false;
   // Evaluate with the general 3-D code even when `planar` (tests and benchmarks compare both).
   bool force_general_3d = false;
@@ -147,4 +145,4 @@ struct Model {
   std::vector<double> nominal_parameters() const;
 };
 
-}  // namespace kanesens
+}  // namespace kanesens::model

@@ -13,22 +13,23 @@
 #include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <span>
 
 #include "io/run_file.hpp"
-#include "model/build_model.hpp"
 #include "parallel/mpi_session.hpp"
 #include "parallel/resources.hpp"
 #include "parallel/stop_signal.hpp"
 #include "sim/simulate.hpp"
-#include "study/design.hpp"
-#include "study/parse_sampling.hpp"
-#include "study/parse_vary.hpp"
-#include "study/study_spec.hpp"
-#include "study/yaml_read.hpp"
+#include "study/setup.hpp"
+#include "parallel/version.hpp"
 #include "util/did_you_mean.hpp"
 #include "util/version.hpp"
 
 namespace kanesens::parallel {
+
+using namespace kanesens::model;
+using namespace kanesens::sim;
+using study::StudySpec;
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -79,7 +80,9 @@ double estimate_file_bytes(const io::RunLayout& l) {
   const double values = static_cast<double>(l.parameter_names.size()) + n + (l.record_states ? T * n : 0.0) +
                         T * n * S + static_cast<double>(l.output_names.size()) * T +
                         static_cast<double>(l.stat_names.size());
-  const double per_sample = 8.0 * values + static_cast<double>(io::RunFile::message_size) + 4.0 + 8.0;
+  const double labels = l.design_labels ? 3 * 8.0 : 0.0;
+  const double per_sample =
+      8.0 * values + static_cast<double>(io::RunFile::message_size) + 4.0 + 8.0 + labels;
   double text = 0;
   for (const auto& [k, v] : l.text_attributes) text += static_cast<double>(k.size() + v.size());
   return static_cast<double>(l.nsamples) * per_sample + 8.0 * T + text + (1 << 20);  // + 1 MiB of HDF5 metadata
@@ -165,7 +168,7 @@ std::string check_output(const std::string& output, const RunOptions& opt, const
     if (need > free_bytes) {
       const std::size_t T = layout.times.size(), n = layout.state_names.size();
       const std::size_t S = layout.record_sensitivities ? layout.sensitivity_names.size() : 0;
-      const SourceLocation where = st.sampling ? st.sampling_where : SourceLocation{st.file, 0, 0};
+      const SourceLocation& where = st.sampling.where;
       return error("sampling.samples",
                    "the output would need about " + human_bytes(need) + " (" + std::to_string(layout.nsamples) +
                        " samples x " + std::to_string(T) + " times x " + std::to_string(n) + " states x (1 + " +
@@ -203,95 +206,45 @@ std::string check_output(const std::string& output, const RunOptions& opt, const
   throw std::runtime_error(what);
 }
 
-study::Design make_design(const StudySpec& st) {
-  std::vector<study::VariedInput> inputs = study::parse_vary(st.vary, {st.file, 0, 0});
-  study::SamplingSpec spec;
-  if (st.sampling && !st.sampling.IsNull()) {
-    spec = study::parse_sampling(st.sampling, {st.file, 0, 0});
-  } else {
-    spec.method = study::SamplingMethod::mc;
-    spec.samples = 1;  // no sampling section: the nominal sample (plus any vary draws)
-  }
-  return study::Design(spec, std::move(inputs));
-}
-
 // Everything a run needs before it touches the output file: the study, the compiled model, the
 // design, the resolved input names and the file layout. Construction validates all of it and
 // throws InputError (file:line:column, key path) for bad input.
-std::map<std::string, double> parameter_overrides(const StudySpec& st) {
-  std::map<std::string, double> out;
-  for (const auto& [name, v] : st.set_inputs)
-    for (const auto& p : st.scene.parameters)
-      if (p.name == name) out[name] = v;
-  return out;
-}
-
 std::vector<std::string> set_arguments(const RunOptions& opt) {
   std::vector<std::string> set = opt.set;
   if (opt.samples > 0) set.push_back("sampling.samples=" + std::to_string(opt.samples));
   return set;
 }
 
-// Where `vary:` names input `name` (its key), for messages about the name.
-SourceLocation vary_key_location(const StudySpec& st, const std::string& name) {
-  if (st.vary && st.vary.IsMap())
-    for (const auto& kv : st.vary)
-      if (kv.first.IsScalar() && kv.first.Scalar() == name) return study::location_of(kv.first, {st.file, 0, 0});
-  return st.vary_where;
+// The design's run labels and input distributions as the run file stores them.
+io::DesignLabels run_labels(const study::Design& design) {
+  return [design](std::int64_t first, std::span<std::int64_t> block, std::span<std::int64_t> row,
+                  std::span<std::int64_t> input) {
+    for (std::size_t k = 0; k < block.size(); ++k) {
+      const study::RunLabel label = design.run_label(first + static_cast<std::int64_t>(k));
+      block[k] = label.block;
+      row[k] = label.row;
+      input[k] = label.input;
+    }
+  };
 }
 
-InputRef resolve_at(const Model& model, const std::string& name, const std::string& key, const SourceLocation& where) {
-  try {
-    return resolve_input(model, name, key);
-  } catch (const InputError& e) {
-    throw InputError(where, e.key_path(), e.detail());
-  }
+io::InputDistribution input_distribution(const study::VariedInput& in) {
+  io::InputDistribution d{in.name, std::string(in.dist.kind_name()), {}, {}};
+  for (const auto& [key, value] : in.dist.named_parameters()) d.parameters.emplace_back(key, value);
+  if (const auto* choice = std::get_if<study::Choice>(&in.dist.params)) d.values = choice->values;
+  return d;
 }
 
+// Everything a run needs before it touches the output file: the study setup (which validates
+// the study and throws InputError for bad input) and the file layout.
 struct Prepared {
   Prepared(const std::string& study_path, const RunOptions& opt, int nranks)
-      : set(set_arguments(opt)),
-        st(parse_study_file(study_path, set)),
-        model(build_model(st.scene, parameter_overrides(st))),
-        base(model),
-        design(make_design(st)) {
-    const std::map<std::string, double> overrides = parameter_overrides(st);
-    for (const auto& [name, v] : st.set_inputs)
-      if (!overrides.count(name)) base.set(resolve_input(model, name, "--set " + name), v);
-    for (const auto& in : design.inputs())
-      varied.push_back(resolve_at(model, in.name, "vary." + in.name, vary_key_location(st, in.name)));
-    for (std::size_t i = 0; i < st.sensitivities.size(); ++i)
-      sens.push_back(resolve_at(model, st.sensitivities[i], "sensitivities[" + std::to_string(i) + "]",
-                                i < st.sensitivity_where.size() ? st.sensitivity_where[i] : SourceLocation{st.file, 0, 0}));
-
-    flags.states = st.record.count("states") > 0;
-    flags.sensitivities = st.record.count("sensitivities") > 0 && !sens.empty();
-    flags.energy = st.record.count("energy") > 0;
-    flags.multipliers = st.record.count("multipliers") > 0 && model.nconstraint_rows > 0;
-    flags.constraint_residual = st.record.count("constraint_residual") > 0 && model.nconstraint_rows > 0;
-    if (st.record.count("sensitivities") && sens.empty())
-      throw InputError(st.record_where, "record", "'sensitivities' is recorded but the study lists no sensitivities");
-    if (!flags.sensitivities) sens.clear();  // what is not recorded is not computed
-    if (!st.solver.atol_per_state.empty()) {
-      if (static_cast<int>(st.solver.atol_per_state.size()) != model.nstate())
-        throw InputError(st.atol_where, "solver.atol",
-                         "expected one entry per state (" + std::to_string(model.nstate()) + ": " +
-                             join_names(model.state_names) + "), found " + std::to_string(st.solver.atol_per_state.size()));
-      if (model.nconstraint_rows > 0 && st.constraints.formulation == ConstraintOptions::Formulation::embedding)
-        throw InputError(st.atol_where, "solver.atol",
-                         "a list of per-state tolerances is not supported with formulation: embedding (it integrates "
-                         "fewer states); give one number");
-    }
-    {
-      // The nominal sample at its initial state: a constraint that constrains nothing there,
-      // equations that are not finite or a mass matrix that is not positive definite are found
-      // now, not in every sample after the file exists.
-      KaneProblem nominal(model, sens, st.constraints);
-      nominal.set_initial_time(st.output_times.front());
-      nominal.set_sample(base);
-      nominal.check_initial_state();
-    }
-
+      : setup(study::setup_study(study_path, set_arguments(opt))), sens(setup.recorded_sensitivities()) {
+    const StudySpec& st = setup.spec;
+    const Model& model = setup.model;
+    const study::Design& design = setup.design;
+    const RecordFlags& flags = setup.record;
+    const std::vector<std::string>& set = setup.set;
     layout.times = st.output_times;
     layout.state_names = model.state_names;
     for (const auto& in : design.inputs()) layout.parameter_names.push_back(in.name);
@@ -329,15 +282,12 @@ struct Prepared {
       layout.number_attributes["morris_levels"] = static_cast<double>(design.spec().morris_levels);
       layout.number_attributes["morris_delta"] = design.morris_delta();
     }
+    if (design.has_run_labels()) layout.design_labels = run_labels(design);
+    for (const auto& in : design.inputs()) layout.distributions.push_back(input_distribution(in));
   }
 
-  std::vector<std::string> set;
-  StudySpec st;
-  Model model;
-  SampleInputs base;
-  study::Design design;
-  std::vector<InputRef> varied, sens;
-  RecordFlags flags;
+  study::StudySetup setup;
+  std::vector<InputRef> sens;  // computed: those recorded
   io::RunLayout layout;
 };
 
@@ -345,7 +295,7 @@ struct Prepared {
 
 void validate_study(const std::string& study_path, const RunOptions& options) {
   const Prepared prepared(study_path, options, 1);
-  if (const std::string problem = check_memory(prepared.layout, prepared.st, 1); !problem.empty())
+  if (const std::string problem = check_memory(prepared.layout, prepared.setup.spec, 1); !problem.empty())
     throw InputError({}, "", problem);
 }
 
@@ -356,13 +306,12 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
   MPI_Comm_size(comm, &nranks);
 
   const Prepared prepared(study_path, opt, nranks);
-  const StudySpec& st = prepared.st;
-  const Model& model = prepared.model;
-  const SampleInputs& base = prepared.base;
-  const study::Design& design = prepared.design;
-  const std::vector<InputRef>& varied = prepared.varied;
+  const study::StudySetup& setup = prepared.setup;
+  const StudySpec& st = setup.spec;
+  const Model& model = setup.model;
+  const study::Design& design = setup.design;
   const std::vector<InputRef>& sens = prepared.sens;
-  const RecordFlags& flags = prepared.flags;
+  const RecordFlags& flags = setup.record;
   const io::RunLayout& layout = prepared.layout;
 
   std::string output = opt.output;
@@ -406,10 +355,9 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
 
   SharedCounter next(comm, 0), done(comm, 0);
   const long long npending = opt.resume ? static_cast<long long>(pending.size()) : design.size();
-  KaneProblem problem(model, sens, st.constraints);
-  problem.set_initial_time(st.output_times.front());
+  KaneProblem problem(model, sens, st.constraints, st.output_times.front());
   std::vector<double> outputs;
-  solve::Integrator integrator(st.solver);
+  sim::Integrator integrator(st.solver);
   Trajectory traj;
   resize_trajectory(traj, problem, st.output_times.size(), flags);
   std::vector<double> values(design.dimension()), y0(static_cast<std::size_t>(model.nstate()));
@@ -465,7 +413,6 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
       for (long long pos = first; pos < last && stop_signal() == 0; ++pos) {  // unstarted ones stay status 0
         const long long i = opt.resume ? pending[static_cast<std::size_t>(pos)] : pos;
         t0 = Clock::now();
-        SampleInputs in = base;
         int status = 1;
         std::string message;
         std::fill(values.begin(), values.end(), std::nan(""));
@@ -474,9 +421,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
         try {
           // Inside the try: a quantile can overflow (Boost.Math throws std::overflow_error for
           // a lognormal far in its tail), which is this sample's failure, not the run's.
-          design.sample(i, values);
-          for (std::size_t d = 0; d < values.size(); ++d) in.set(varied[d], values[d]);
-          problem.set_sample(in);
+          problem.set_sample(setup.sample(i, values));
           problem.initial_state(y0.data());
           simulate(problem, integrator, st.output_times, flags, traj);
           const auto& s = traj.result.stats;

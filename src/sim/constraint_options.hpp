@@ -1,7 +1,7 @@
 // How a study treats constraints (study YAML `solver.constraints`).
 #pragma once
 
-namespace kanesens {
+namespace kanesens::sim {
 
 struct ConstraintOptions {
   enum class Formulation { multipliers, embedding };
@@ -19,4 +19,4 @@ struct ConstraintOptions {
   bool project_sensitivities = true;
 };
 
-}  // namespace kanesens
+}  // namespace kanesens::sim

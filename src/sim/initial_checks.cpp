@@ -4,13 +4,18 @@
 #include <cstdio>
 #include <string>
 
-#include "ad/dual.hpp"
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
+#include "math/dual.hpp"
 #include "sim/kane_problem.hpp"
 #include "util/error.hpp"
 
-namespace kanesens {
+namespace kanesens::sim {
 namespace {
+
+using dynamics::Workspace;
+using math::value_of;
+using model::Constraint;
+using model::Model;
 
 std::string number(double x) {
   char buf[32];
@@ -60,18 +65,18 @@ void check_constraint_rows(const Model& m, const Workspace<S>& ws, double t) {
 }
 
 template void check_constraint_rows<double>(const Model&, const Workspace<double>&, double);
-template void check_constraint_rows<Dual>(const Model&, const Workspace<Dual>&, double);
+template void check_constraint_rows<math::Dual>(const Model&, const Workspace<math::Dual>&, double);
 
-void KaneProblem::check_initial_state() const {
+void KaneProblem::validate_initial_state() const {
+  check_initial_state();  // degenerate constraints, a zero quaternion, Newton, ... (set_sample)
   const Model& m = model_;
-  std::vector<double> y0(static_cast<std::size_t>(m.nstate()));
-  initial_state_full(y0.data());  // throws for degenerate constraints, a zero quaternion, ...
+  const std::vector<double>& y0 = initial_.y;
   Workspace<double> ws(m);
-  set_parameters(m, ws, parameters_.data());
+  dynamics::set_parameters(m, ws, workspaces_.parameters().data());
   std::vector<double> ydot(y0.size());
-  RhsFailure why = RhsFailure::none;
-  const bool ok = evaluate_rhs(m, ws, initial_time_, y0.data(), ydot.data(), &why);
-  const std::string at = "at the initial state (t = " + number(initial_time_) + ")";
+  dynamics::RhsFailure why = dynamics::RhsFailure::none;
+  const bool ok = dynamics::evaluate_rhs(m, ws, t0_, y0.data(), ydot.data(), dynamics_, &why);
+  const std::string at = "at the initial state (t = " + number(t0_) + ")";
   auto not_finite = [&](const std::string& what, double value) {
     throw InputError(scene_where(m), "scene",
                      at + " " + what + " is " + number(value) +
@@ -87,10 +92,10 @@ void KaneProblem::check_initial_state() const {
                    ws.mass_matrix(r, c));
   for (int r = 0; r < m.nu; ++r)
     if (!std::isfinite(ws.forcing[r])) not_finite("the forcing of " + m.speed_names[static_cast<std::size_t>(r)], ws.forcing[r]);
-  if (!ok) throw InputError(scene_where(m), "scene", at + ": " + describe(why));
+  if (!ok) throw InputError(scene_where(m), "scene", at + ": " + dynamics::describe(why));
   for (int i = 0; i < m.nstate(); ++i)
     if (!std::isfinite(ydot[static_cast<std::size_t>(i)]))
       not_finite("the rate of " + m.state_names[static_cast<std::size_t>(i)], ydot[static_cast<std::size_t>(i)]);
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::sim

@@ -5,7 +5,9 @@
 #include "util/did_you_mean.hpp"
 #include "util/error.hpp"
 
-namespace kanesens {
+namespace kanesens::sim {
+
+using namespace kanesens::model;
 
 bool is_input_name(const Model& m, const std::string& name) {
   if (m.find_parameter(name) >= 0) return true;
@@ -55,4 +57,4 @@ double SampleInputs::get(const Model&, const InputRef& ref) const {
   return ref.kind == InputRef::Kind::parameter ? parameters[ref.index] : initial_values[ref.index];
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::sim

@@ -6,7 +6,9 @@
 
 #include "model/model.hpp"
 
-namespace kanesens {
+namespace kanesens::sim {
+
+using model::Model;
 
 struct InputRef {
   enum class Kind { parameter, initial_condition };
@@ -30,4 +32,4 @@ struct SampleInputs {
   double get(const Model& model, const InputRef& ref) const;  // initial condition: value if set, else NaN
 };
 
-}  // namespace kanesens
+}  // namespace kanesens::sim

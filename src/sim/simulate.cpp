@@ -3,7 +3,9 @@
 #include <cmath>
 #include <memory>
 
-namespace kanesens {
+namespace kanesens::sim {
+
+using namespace kanesens::dynamics;
 
 void resize_trajectory(Trajectory& traj, const KaneProblem& problem, std::size_t ntimes, const RecordFlags& flags) {
   const std::size_t n = static_cast<std::size_t>(problem.model().nstate());
@@ -18,7 +20,7 @@ void resize_trajectory(Trajectory& traj, const KaneProblem& problem, std::size_t
   traj.velocity_residual.assign(flags.constraint_residual ? ntimes : 0, std::nan(""));
 }
 
-solve::RecordFn make_recorder(KaneProblem& problem, const RecordFlags& flags, Trajectory& traj) {
+RecordFn make_recorder(KaneProblem& problem, const RecordFlags& flags, Trajectory& traj) {
   const std::size_t n = static_cast<std::size_t>(problem.model().nstate());
   const std::size_t ns = static_cast<std::size_t>(problem.num_sensitivities());
   // Scratch shared by the calls (the recorder is called once per output, never concurrently).
@@ -71,10 +73,10 @@ solve::RecordFn make_recorder(KaneProblem& problem, const RecordFlags& flags, Tr
   };
 }
 
-void simulate(KaneProblem& problem, solve::Integrator& integrator, std::span<const double> times,
+void simulate(KaneProblem& problem, Integrator& integrator, std::span<const double> times,
               const RecordFlags& flags, Trajectory& traj) {
   resize_trajectory(traj, problem, times.size(), flags);
   traj.result = integrator.integrate(problem, times, make_recorder(problem, flags, traj));
 }
 
-}  // namespace kanesens
+}  // namespace kanesens::sim

@@ -255,6 +255,25 @@ std::string Design::block_label(std::int64_t i) const {
   }
 }
 
+bool Design::has_run_labels() const {
+  return impl_->spec.method == SamplingMethod::saltelli ||
+         impl_->spec.method == SamplingMethod::morris;
+}
+
+RunLabel Design::run_label(std::int64_t i) const {
+  if (impl_->spec.method == SamplingMethod::saltelli) {
+    const SaltelliIndex s = saltelli_index(i);
+    const bool ab = s.block == SaltelliBlock::AB;
+    const auto input = static_cast<std::int64_t>(s.input);
+    return {s.base, s.block == SaltelliBlock::A ? 0 : ab ? 2 + input : 1, ab ? input : -1};
+  }
+  if (impl_->spec.method == SamplingMethod::morris) {
+    const MorrisStep s = morris_step(i);
+    return {s.trajectory, s.step, s.input};
+  }
+  throw std::logic_error("Design::run_label: only saltelli and morris designs label their runs");
+}
+
 SaltelliIndex Design::saltelli_index(std::int64_t i) const {
   if (impl_->spec.method != SamplingMethod::saltelli) {
     throw std::logic_error("Design::saltelli_index: the design is not a saltelli design");

@@ -33,6 +33,14 @@
 
 namespace kanesens::study {
 
+// A run's place in a Saltelli or Morris design, as the run file records it (/design_block,
+// /design_row, /design_input; docs/reference/hdf5.md). saltelli: block = base point j, row 0 = A_j,
+// 1 = B_j, 2 + k = AB_j^(k), input = k (−1 for A_j and B_j). morris: block = trajectory, row =
+// step, input = the input that step moved (−1 at step 0). Inputs are 0-based, in input order.
+struct RunLabel {
+  std::int64_t block = 0, row = 0, input = -1;
+};
+
 class Design {
  public:
   // Throws InputError (at spec.where) when the spec cannot serve these inputs (unknown input in
@@ -53,6 +61,8 @@ class Design {
 
   // "A", "B", "AB3" (saltelli), "traj2.step1" (morris), "" for other methods.
   std::string block_label(std::int64_t i) const;
+  bool has_run_labels() const;                         // saltelli and morris designs
+  RunLabel run_label(std::int64_t i) const;            // those only (logic_error)
   SaltelliIndex saltelli_index(std::int64_t i) const;  // method saltelli only (logic_error)
   MorrisStep morris_step(std::int64_t i) const;        // method morris only (logic_error)
   double morris_delta() const;                         // Δ = p/(2(p−1)); morris only

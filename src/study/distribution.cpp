@@ -161,6 +161,33 @@ std::string_view Distribution::kind_name() const {
   return names[params.index()];
 }
 
+std::vector<std::pair<std::string_view, double>> Distribution::named_parameters() const {
+  using Named = std::vector<std::pair<std::string_view, double>>;
+  return std::visit(
+      Overloaded{
+          [](const Uniform& d) {
+            return Named{{"low", d.low}, {"high", d.high}};
+          },
+          [](const Normal& d) {
+            return Named{{"mean", d.mean}, {"std", d.std}};
+          },
+          [](const TruncNormal& d) {
+            return Named{{"mean", d.mean}, {"std", d.std}, {"low", d.low}, {"high", d.high}};
+          },
+          [](const LogNormal& d) {
+            return Named{{"mu", d.mu}, {"sigma", d.sigma}};
+          },
+          [](const Triangular& d) {
+            return Named{{"low", d.low}, {"mode", d.mode}, {"high", d.high}};
+          },
+          [](const Choice&) { return Named{}; },
+          [](const Fixed& d) {
+            return Named{{"value", d.value}};
+          },
+      },
+      params);
+}
+
 std::optional<DistributionProblem> Distribution::find_problem() const {
   return std::visit(
       Overloaded{

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -52,6 +53,10 @@ struct Distribution {
 
   // The YAML name of the kind: "uniform", "normal", ..., "fixed".
   std::string_view kind_name() const;
+
+  // The parameters under their study-file keys, in the order of the study format:
+  // {"low", 0.8}, {"high", 1.2}. choice has none here: its values are Choice::values.
+  std::vector<std::pair<std::string_view, double>> named_parameters() const;
 
   // First violated invariant (finite numbers, low < high, std > 0, low ≤ mode ≤ high,
   // sigma > 0, non-empty values, truncnormal interval with non-negligible probability), or

@@ -3,7 +3,7 @@
 #include <array>
 #include <vector>
 
-#include "study/yaml_read.hpp"
+#include "model/yaml_reader.hpp"
 #include "util/did_you_mean.hpp"
 
 namespace kanesens::study {
@@ -38,7 +38,7 @@ constexpr std::array<std::string_view, 7> all_methods = {"mc",   "lhs",      "so
 
 // A key valid for some other method gets "does not apply" rather than "unknown".
 void check_method_keys(const YAML::Node& node, SamplingMethod method, const std::string& path,
-                       const SourceLocation& file) {
+                       const model::YamlReader& r) {
   const auto allowed = keys_of(method);
   for (const auto& kv : node) {
     if (!kv.first.IsScalar()) continue;
@@ -53,20 +53,20 @@ void check_method_keys(const YAML::Node& node, SamplingMethod method, const std:
       }
     }
     if (!users.empty()) {
-      throw InputError(location_of(kv.first, file), path + "." + key,
+      throw InputError(r.location(kv.first), path + "." + key,
                        "'" + key + "' does not apply to method " +
                            std::string(method_name(method)) + " (it is for " + users + "); " +
                            std::string(method_name(method)) + " takes: " + join_names(allowed));
     }
   }
-  check_keys(node, allowed, path, file);  // typos, duplicates
+  r.check_keys(node, path, allowed);  // typos, duplicates
 }
 
-std::int64_t read_count(const YAML::Node& node, const std::string& path, const SourceLocation& file,
+std::int64_t read_count(const YAML::Node& node, const std::string& path, const model::YamlReader& r,
                         std::int64_t max) {
-  const std::int64_t n = read_integer(node, path, file);
+  const std::int64_t n = r.read_integer(node, path);
   if (n < 1 || n > max) {
-    throw InputError(location_of(node, file), path,
+    throw InputError(r.location(node), path,
                      "expected an integer in [1, " + std::to_string(max) + "], got " +
                          std::to_string(n) +
                          (n > max ? " (larger designs are refused as a likely typo)" : ""));
@@ -75,52 +75,52 @@ std::int64_t read_count(const YAML::Node& node, const std::string& path, const S
 }
 
 SamplingMethod read_method(const YAML::Node& node, const std::string& path,
-                           const SourceLocation& file) {
-  const std::string name = read_string(node, path, file);
+                           const model::YamlReader& r) {
+  const std::string name = r.read_string(node, path);
   if (const auto m = method_from_name(name)) return *m;
-  throw InputError(location_of(node, file), path,
+  throw InputError(r.location(node), path,
                    "unknown sampling method '" + name + "'" + did_you_mean(name, all_methods) +
                        "; expected one of: " + join_names(all_methods));
 }
 
-void read_grid_levels(const YAML::Node& node, const std::string& path, const SourceLocation& file,
+void read_grid_levels(const YAML::Node& node, const std::string& path, const model::YamlReader& r,
                       SamplingSpec& spec) {
   if (node.IsScalar()) {
-    spec.grid_levels = read_count(node, path, file, max_design_runs);
+    spec.grid_levels = read_count(node, path, r, max_design_runs);
     return;
   }
   if (!node.IsMap()) {
-    throw InputError(location_of(node, file), path,
-                     "expected a level count or a map {input: count}, got " + describe_node(node));
+    throw InputError(r.location(node), path,
+                     "expected a level count or a map {input: count}, got " + model::describe(node));
   }
   // Input names are checked against `vary` when the Design is built (GridLevels::where).
   for (const auto& kv : node) {
-    const std::string input = read_string(kv.first, path, file);
+    const std::string input = r.read_string(kv.first, path);
     const std::string key_path = path + "." + input;
     for (const GridLevels& g : spec.grid_levels_by_input) {
       if (g.input == input) {
-        throw InputError(location_of(kv.first, file), key_path,
+        throw InputError(r.location(kv.first), key_path,
                          "input '" + input + "' is given twice");
       }
     }
     spec.grid_levels_by_input.push_back({input,
-                                         read_count(kv.second, key_path, file, max_design_runs),
-                                         location_of(kv.second, file)});
+                                         read_count(kv.second, key_path, r, max_design_runs),
+                                         r.location(kv.second)});
   }
 }
 
 }  // namespace
 
-SamplingSpec parse_sampling(const YAML::Node& node, const SourceLocation& file_ctx,
-                            const std::string& path) {
-  require_map(node, path, file_ctx);
+SamplingSpec parse_sampling(const YAML::Node& node, const SourceLocation& file_ctx, const std::string& path) {
+  const model::YamlReader r(file_ctx.file);
+  r.require_map(node, path);
   SamplingSpec spec;
-  spec.where = location_of(node, file_ctx);
-  if (node["method"]) spec.method = read_method(node["method"], path + ".method", file_ctx);
-  check_method_keys(node, spec.method, path, file_ctx);
+  spec.where = r.location(node);
+  if (node["method"]) spec.method = read_method(node["method"], path + ".method", r);
+  check_method_keys(node, spec.method, path, r);
   const std::string name(method_name(spec.method));
 
-  if (node["seed"]) spec.seed = read_unsigned(node["seed"], path + ".seed", file_ctx);
+  if (node["seed"]) spec.seed = r.read_unsigned(node["seed"], path + ".seed");
 
   const bool wants_samples =
       spec.method != SamplingMethod::grid && spec.method != SamplingMethod::morris;
@@ -132,15 +132,15 @@ SamplingSpec parse_sampling(const YAML::Node& node, const SourceLocation& file_c
                                 ? "the base sample count N (runs = N·(inputs + 2))"
                                 : "the number of runs"));
     }
-    spec.samples = read_count(node["samples"], path + ".samples", file_ctx, max_design_runs);
+    spec.samples = read_count(node["samples"], path + ".samples", r, max_design_runs);
   }
 
   if (node["base"]) {
     const YAML::Node& b = node["base"];
-    const SamplingMethod base = read_method(b, path + ".base", file_ctx);
+    const SamplingMethod base = read_method(b, path + ".base", r);
     if (base != SamplingMethod::mc && base != SamplingMethod::lhs &&
         base != SamplingMethod::sobol && base != SamplingMethod::halton) {
-      throw InputError(location_of(b, file_ctx), path + ".base",
+      throw InputError(r.location(b), path + ".base",
                        "expected a base sequence mc, lhs, sobol or halton, got '" +
                            std::string(method_name(base)) + "'");
     }
@@ -148,18 +148,18 @@ SamplingSpec parse_sampling(const YAML::Node& node, const SourceLocation& file_c
   }
 
   if (node["randomize"]) {
-    const YAML::Node& r = node["randomize"];
-    spec.randomize = read_bool(r, path + ".randomize", file_ctx);
+    const YAML::Node& rnd = node["randomize"];
+    spec.randomize = r.read_bool(rnd, path + ".randomize");
     if (spec.randomize && spec.method == SamplingMethod::saltelli &&
         spec.base != SamplingMethod::sobol && spec.base != SamplingMethod::halton) {
-      throw InputError(location_of(r, file_ctx), path + ".randomize",
+      throw InputError(r.location(rnd), path + ".randomize",
                        "randomize applies to a sobol or halton base; the base is " +
                            std::string(method_name(spec.base)) + ", which is random already");
     }
   }
 
   if (spec.method == SamplingMethod::grid && node["levels"]) {
-    read_grid_levels(node["levels"], path + ".levels", file_ctx, spec);
+    read_grid_levels(node["levels"], path + ".levels", r, spec);
   }
 
   if (spec.method == SamplingMethod::morris) {
@@ -169,12 +169,12 @@ SamplingSpec parse_sampling(const YAML::Node& node, const SourceLocation& file_c
                        "trajectories r (runs = r·(inputs + 1))");
     }
     spec.trajectories =
-        read_count(node["trajectories"], path + ".trajectories", file_ctx, max_design_runs);
+        read_count(node["trajectories"], path + ".trajectories", r, max_design_runs);
     if (node["levels"]) {
       const YAML::Node& p = node["levels"];
-      spec.morris_levels = read_integer(p, path + ".levels", file_ctx);
+      spec.morris_levels = r.read_integer(p, path + ".levels");
       if (spec.morris_levels < 2 || spec.morris_levels % 2 != 0 || spec.morris_levels > 1000) {
-        throw InputError(location_of(p, file_ctx), path + ".levels",
+        throw InputError(r.location(p), path + ".levels",
                          "expected an even number of levels in [2, 1000] (steps are p/2 levels), "
                          "got " +
                              std::to_string(spec.morris_levels));

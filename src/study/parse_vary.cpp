@@ -2,7 +2,7 @@
 
 #include <array>
 
-#include "study/yaml_read.hpp"
+#include "model/yaml_reader.hpp"
 #include "util/did_you_mean.hpp"
 
 namespace kanesens::study {
@@ -26,42 +26,41 @@ const std::array<KindKeys, 7>& kinds() {
   return table;
 }
 
-}  // namespace
 
-Distribution parse_distribution(const YAML::Node& node, const SourceLocation& file,
+Distribution read_distribution(const YAML::Node& node, const model::YamlReader& r,
                                 const std::string& path) {
-  require_map(node, path, file);
+  r.require_map(node, path);
   std::vector<std::string_view> kind_names;
   for (const auto& k : kinds()) kind_names.push_back(k.kind);
   if (!node["dist"]) {
     // A misspelt `dist` reads better as an unknown key than as a missing one.
     std::vector<std::string_view> any_key;
     for (const auto& k : kinds()) any_key.insert(any_key.end(), k.keys.begin(), k.keys.end());
-    check_keys(node, any_key, path, file);
-    throw InputError(location_of(node, file), path,
+    r.check_keys(node, path, any_key);
+    throw InputError(r.location(node), path,
                      "missing key 'dist'; expected one of: " + join_names(kind_names));
   }
   const YAML::Node& dist_node = node["dist"];
-  const std::string kind = read_string(dist_node, path + ".dist", file);
+  const std::string kind = r.read_string(dist_node, path + ".dist");
   const KindKeys* spec = nullptr;
   for (const auto& k : kinds()) {
     if (k.kind == kind) spec = &k;
   }
   if (!spec) {
-    throw InputError(location_of(dist_node, file), path + ".dist",
+    throw InputError(r.location(dist_node), path + ".dist",
                      "unknown distribution '" + kind + "'" + did_you_mean(kind, kind_names) +
                          "; expected one of: " + join_names(kind_names));
   }
-  check_keys(node, spec->keys, path, file);
+  r.check_keys(node, path, spec->keys);
   for (const std::string_view key : spec->keys) {
     if (!node[std::string(key)]) {
       std::vector<std::string_view> params(spec->keys.begin() + 1, spec->keys.end());
       throw InputError(
-          location_of(node, file), path,
+          r.location(node), path,
           "missing key '" + std::string(key) + "'; " + kind + " needs: " + join_names(params));
     }
   }
-  const auto num = [&](const char* key) { return read_finite(node[key], path + "." + key, file); };
+  const auto num = [&](const char* key) { return r.read_number(node[key], path + "." + key); };
 
   Distribution d;
   if (kind == "uniform") {
@@ -79,44 +78,54 @@ Distribution parse_distribution(const YAML::Node& node, const SourceLocation& fi
   } else {  // choice
     const YAML::Node& list = node["values"];
     if (!list.IsSequence()) {
-      throw InputError(location_of(list, file), path + ".values",
-                       "expected a list of numbers, got " + describe_node(list));
+      throw InputError(r.location(list), path + ".values",
+                       "expected a list of numbers, got " + model::describe(list));
     }
     std::vector<double> values;
     for (std::size_t k = 0; k < list.size(); ++k) {
-      values.push_back(read_finite(list[k], path + ".values[" + std::to_string(k) + "]", file));
+      values.push_back(r.read_number(list[k], path + ".values[" + std::to_string(k) + "]"));
     }
     d = make_choice(std::move(values));
   }
 
   if (const auto problem = d.find_problem()) {
     const YAML::Node& at = node[problem->key] ? node[problem->key] : node;
-    throw InputError(location_of(at, file), path + "." + problem->key,
+    throw InputError(r.location(at), path + "." + problem->key,
                      kind + ": " + problem->message);
   }
   return d;
 }
 
-std::vector<VariedInput> parse_vary(const YAML::Node& node, const SourceLocation& file,
+std::vector<VariedInput> read_vary(const YAML::Node& node, const model::YamlReader& r,
                                     const std::string& path) {
   std::vector<VariedInput> inputs;
   if (!node || node.IsNull()) return inputs;
-  require_map(node, path, file);
+  r.require_map(node, path);
   for (const auto& kv : node) {
-    const std::string name = read_string(kv.first, path, file);
+    const std::string name = r.read_string(kv.first, path);
     const std::string key_path = path + "." + name;
     if (name.empty()) {
-      throw InputError(location_of(kv.first, file), path, "expected an input name, got ''");
+      throw InputError(r.location(kv.first), path, "expected an input name, got ''");
     }
     for (const auto& in : inputs) {
       if (in.name == name) {
-        throw InputError(location_of(kv.first, file), key_path,
+        throw InputError(r.location(kv.first), key_path,
                          "input '" + name + "' is varied twice");
       }
     }
-    inputs.push_back({name, parse_distribution(kv.second, file, key_path)});
+    inputs.push_back({name, read_distribution(kv.second, r, key_path)});
   }
   return inputs;
+}
+
+}  // namespace
+
+Distribution parse_distribution(const YAML::Node& node, const SourceLocation& file, const std::string& path) {
+  return read_distribution(node, model::YamlReader(file.file), path);
+}
+
+std::vector<VariedInput> parse_vary(const YAML::Node& node, const SourceLocation& file, const std::string& path) {
+  return read_vary(node, model::YamlReader(file.file), path);
 }
 
 }  // namespace kanesens::study

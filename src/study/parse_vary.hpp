@@ -23,12 +23,11 @@
 
 namespace kanesens::study {
 
+// file_ctx.file names the study file (line and column are taken from the nodes' marks).
 // A null or absent node gives no inputs.
 std::vector<VariedInput> parse_vary(const YAML::Node& node, const SourceLocation& file_ctx,
                                     const std::string& path = "vary");
-
 // One entry's distribution, e.g. the map {dist: uniform, low: 0.8, high: 1.2} at path vary.m2.
-Distribution parse_distribution(const YAML::Node& node, const SourceLocation& file_ctx,
-                                const std::string& path);
+Distribution parse_distribution(const YAML::Node& node, const SourceLocation& file_ctx, const std::string& path);
 
 }  // namespace kanesens::study

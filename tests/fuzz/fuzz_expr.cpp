@@ -6,10 +6,10 @@
 #include <cstdlib>
 #include <string>
 
-#include "expr/expression.hpp"
+#include "model/expr/expression.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  using namespace kanesens::expr;
+  using namespace kanesens::model::expr;
   static const NameTable names = [] {
     NameTable n;
     n.add("m", {VarKind::parameter, 0});

@@ -20,7 +20,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     doc = YAML::Load(text);
   } catch (const YAML::Exception&) {
-    return 0;  // malformed YAML: yaml_util::load turns this into an InputError (unit-tested)
+    return 0;  // malformed YAML: model::load_yaml turns this into an InputError (unit-tested)
   }
   if (!doc.IsMap()) return 0;
   try {

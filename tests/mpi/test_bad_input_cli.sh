@@ -111,7 +111,7 @@ expect_bad run-unknown-name-250000-chars "long_name.yaml:7:[0-9]*: sensitivities
 # ---- Memory: one sample's results must fit in every rank (KANESENS_FAULT_MEMORY_AVAILABLE
 # stands in for a small node) --------------------------------------------------------------
 expect_bad run-memory "study.yaml:3:[0-9]*: time: one sample's results .* need about .* of memory per rank (2 ranks on this node" out7.h5 env KANESENS_FAULT_MEMORY_AVAILABLE=10000 mpirun --allow-run-as-root --oversubscribe -np 2 "$KANESENS" run study.yaml -o out7.h5
-expect_bad simulate-memory "study.yaml:3:[0-9]*: time: one sample's results" - env KANESENS_FAULT_MEMORY_AVAILABLE=10000 "$KANESENS" simulate study.yaml
+expect_bad simulate-memory "study.yaml:3:[0-9]*: time: the trajectory (5 times x 4 states x (1 + 1 sensitivities)) needs about" - env KANESENS_FAULT_MEMORY_AVAILABLE=100 "$KANESENS" simulate study.yaml
 
 # ---- The output path is never followed or clobbered -------------------------------------------
 echo precious > precious.txt

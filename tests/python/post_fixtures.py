@@ -44,11 +44,15 @@ def write_run(path, *, time, state_names, parameter_names, parameters, states,
               sensitivity_names=(), sensitivities=None, constraint_names=(), multipliers=None,
               outputs=None, status=None, message=None, solver_stats=None, initial_state=None,
               sampling_method="mc", seed=1, study=None, scene=None, design=None,
-              sample_scale=True):
+              sample_scale=True, legacy=False):
     """Write a run file. Shapes: parameters (ns, np), states (ns, nt, nx),
     sensitivities (ns, nt, nx, nsens), multipliers (ns, nt, nc), outputs {name: (ns, nt)},
     solver_stats {name: (ns,)}. study/scene: dicts dumped to the root attributes as YAML text.
-    design: optional {"design_block": (ns,), "design_row": (ns,)} integer labels.
+    As `kanesens run` does, the study's `vary:` distributions go to the /vary group and a
+    Saltelli or Morris design's labels to /design_block, /design_row, /design_input (rows in
+    the writer's order: blocks of P+2, trajectories of P+1; a Morris step's input is the one
+    whose value changed most). design: {label: (ns,)} integer labels instead of those.
+    legacy=True writes neither /vary nor labels (a file of an older kanesens).
     sample_scale=False writes the sample dimension as a netCDF pure dimension (no coordinate
     values), the other way a writer may declare it."""
     time = np.asarray(time, dtype=float)
@@ -107,9 +111,13 @@ def write_run(path, *, time, state_names, parameter_names, parameters, states,
         grp = f.create_group("solver_stats")
         for name, values in (solver_stats or {}).items():
             put(name, np.asarray(values), ("sample",), grp)
+        if design is None and not legacy:
+            design = design_labels(sampling_method, parameters)
         for name, values in (design or {}).items():
             ds = f.create_dataset(name, data=np.asarray(values, np.int64))
             _attach(ds, ("sample",), scales)
+        if not legacy:
+            write_vary(f, (study or {}).get("vary") or {})
         f.attrs["kanesens_version"] = "0.0.0-test"
         f.attrs["scene_yaml"] = yaml.safe_dump(scene or {"kanesens": 1, "scene": {}})
         f.attrs["study_yaml"] = yaml.safe_dump(study or {"kanesens": 1})
@@ -118,6 +126,32 @@ def write_run(path, *, time, state_names, parameter_names, parameters, states,
         f.attrs["sampling_method"] = sampling_method
         f.attrs["seed"] = np.int64(seed)
     return Path(path)
+
+
+def write_vary(f, vary):
+    """/vary/<input>: attribute `distribution` and the parameters under their `vary:` keys."""
+    group = f.create_group("vary")
+    for name, spec in vary.items():
+        sub = group.create_group(name)
+        sub.attrs["distribution"] = spec["dist"]
+        for key, value in spec.items():
+            if key != "dist":
+                sub.attrs[key] = np.asarray(value, float) if key == "values" else float(value)
+
+
+def design_labels(method, x):
+    """The labels kanesens writes for runs in its own order, or {} for other designs."""
+    ns, p = x.shape
+    size = {"saltelli": p + 2, "morris": p + 1}.get(method)
+    if size is None or ns % size:
+        return {}
+    block, row = np.divmod(np.arange(ns), size)
+    if method == "saltelli":
+        moved = np.where(row >= 2, row - 2, -1)
+    else:
+        step = np.abs(np.diff(x, axis=0, prepend=x[:1]))
+        moved = np.where(row > 0, step.argmax(axis=1), -1)
+    return {"design_block": block, "design_row": row, "design_input": moved}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -195,7 +229,7 @@ def uniform_vary(bounds):
 
 
 def write_function_run(path, x, names, values, gradient=None, method="mc", vary=None,
-                       time=None, status=None, output=None):
+                       time=None, status=None, output=None, legacy=False):
     """A run whose single state `y` is a closed-form function of the inputs.
     x (ns, P); values (ns, nt) or (ns,); gradient ∂y/∂x (ns, nt, P) or (ns, P) written as
     /sensitivities with sensitivity names = input names; output: also write y as
@@ -210,7 +244,7 @@ def write_function_run(path, x, names, values, gradient=None, method="mc", vary=
     return write_run(path, time=time, state_names=["y"], parameter_names=names, parameters=x,
                      states=values[..., None], sensitivity_names=names if sens is not None
                      else (), sensitivities=sens, status=status, sampling_method=method,
-                     study=study(vary or {}, method),
+                     study=study(vary or {}, method), legacy=legacy,
                      outputs=None if output is None else {output: values})
 
 
@@ -225,10 +259,10 @@ def _pendulum_ppfs():
             lambda u: norm.ppf(u, 0.3, 0.03)]
 
 
-def pendulum_saltelli(path, n_base=256, nt=201, t_end=10.0, seed=3, fail=(5, 77)):
+def pendulum_saltelli(path, n_base=256, nt=201, t_end=10.0, seed=3, fail=(5, 77), legacy=False):
     """The pendulum of pendulum_run() in a Saltelli design of n_base base points."""
     x, _, _ = saltelli_design(n_base, _pendulum_ppfs(), seed=seed)
-    return pendulum_run(path, x, "saltelli", n_base, nt, t_end, seed, fail)
+    return pendulum_run(path, x, "saltelli", n_base, nt, t_end, seed, fail, legacy)
 
 
 def pendulum_morris(path, r=40, nt=201, t_end=10.0, seed=3, fail=(5,)):
@@ -239,7 +273,7 @@ def pendulum_morris(path, r=40, nt=201, t_end=10.0, seed=3, fail=(5,)):
     return pendulum_run(path, x, "morris", r, nt, t_end, seed, fail)
 
 
-def pendulum_run(path, x, method, samples, nt, t_end, seed, fail):
+def pendulum_run(path, x, method, samples, nt, t_end, seed, fail, legacy=False):
     """Small-angle pendulum θ(t) = θ0 cos(ωt), ω = √(g/L), with L ~ U(0.95, 1.05),
     m ~ U(0.5, 1.5) (no effect on θ) and θ0 ~ N(0.3, 0.03) (columns of x); rod tension
     as a multiplier, energy as an output, forward sensitivities ∂(θ, θ̇)/∂(L, m, θ0).
@@ -286,7 +320,7 @@ def pendulum_run(path, x, method, samples, nt, t_end, seed, fail):
                      constraint_names=["rod"], multipliers=tension[..., None],
                      outputs={"energy": energy}, status=status, message=message,
                      solver_stats=stats, sampling_method=method, seed=seed, study=study,
-                     scene=scene)
+                     scene=scene, legacy=legacy)
 
 
 EXAMPLES = {"pendulum-saltelli": pendulum_saltelli, "pendulum-morris": pendulum_morris}

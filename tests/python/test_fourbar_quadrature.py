@@ -1,6 +1,6 @@
 """The four-bar's energy-quadrature reference (tests/sympy/four_bar_quadrature.py) checked.
 
-The benches (scripts/bench_peers_fourbar*.{sh,py}) measure errors down to 1e-10 against it at
+The benches (bench/bench_peers_fourbar*.py) measure errors down to 1e-10 against it at
 t = 10, so it must be right to well below that. Here, for the nominal configs/four_bar.yaml and
 a second crank-rocker turning the other way from another start:
 
@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 ROOT = Path(os.environ.get("KANESENS_SOURCE_DIR") or Path(__file__).resolve().parents[2])
-sys.path[:0] = [str(ROOT / "tests" / "sympy"), str(ROOT / "scripts")]
+sys.path[:0] = [str(ROOT / "tests" / "sympy"), str(ROOT / "bench")]
 import four_bar_kane as fb  # noqa: E402
 import four_bar_quadrature as fq  # noqa: E402
 import fourbar_kanesens as fk  # noqa: E402

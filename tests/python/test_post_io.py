@@ -87,3 +87,47 @@ def test_file_without_output_groups(tmp_path):
         del f["outputs"], f["solver_stats"]
     ds = open_run(path)
     assert not [v for v in ds.data_vars if v.startswith(("output_", "solver_stats_"))]
+
+
+def test_design_labels_and_distributions_come_from_the_file(tmp_path):
+    """/design_* labels and /vary are what the analyses use: the study text is not read (here
+    it has no vary: section at all)."""
+    from post_fixtures import saltelli_design, write_run
+    x, _, _ = saltelli_design(8, [lambda u: u, lambda u: 2 + u], seed=2)
+    vary = {"a": {"dist": "uniform", "low": 0.0, "high": 1.0},
+            "b": {"dist": "triangular", "low": 2.0, "mode": 2.5, "high": 3.0}}
+    path = write_run(tmp_path / "f.h5", time=[0.0], state_names=["y"], parameter_names=["a", "b"],
+                     parameters=x, states=x[:, :1, None], sampling_method="saltelli",
+                     study={"kanesens": 1, "vary": vary})
+    import h5py
+    with h5py.File(path, "r+") as f:
+        f.attrs["study_yaml"] = "kanesens: 1\n"
+    ds = open_run(path)
+    assert ds.attrs["vary"]["b"] == {"distribution": "triangular", "low": 2.0, "mode": 2.5, "high": 3.0}
+    des = design(ds)
+    assert des.labels == "file"
+    assert des.dists["b"].kind == "triangular" and des.dists["b"].mean() == pytest.approx(2.5)
+    assert des.row[:4].tolist() == [0, 1, 2, 3] and des.moved[:4].tolist() == [-1, -1, 0, 1]
+    assert des.block[4:8].tolist() == [1] * 4
+
+
+def test_design_of_an_older_file(tmp_path):
+    """A file without /vary and the labels: runs in row order, distributions from the study."""
+    path = pendulum_saltelli(tmp_path / "old.h5", n_base=8, nt=3, fail=(), legacy=True)
+    ds = open_run(path)
+    assert "vary" not in ds.attrs and "design_block" not in ds
+    des = design(ds)
+    assert des.labels == "row order" and des.dists["pivot.q0"].kind == "normal"
+    assert des.block[:6].tolist() == [0] * 5 + [1] and des.moved[:5].tolist() == [-1, -1, 0, 1, 2]
+
+
+def test_fixed_inputs_are_design_columns_but_not_reported(tmp_path):
+    """A `fixed` entry of vary: is a column of the design (its AB block row exists) and is
+    left out of what the analyses report."""
+    from post_fixtures import saltelli_design, write_function_run
+    x, _, _ = saltelli_design(4, [lambda u: u, lambda u: 0 * u + 7.0], seed=2)
+    vary = {"a": {"dist": "uniform", "low": 0.0, "high": 1.0}, "k": {"dist": "fixed", "value": 7.0}}
+    path = write_function_run(tmp_path / "k.h5", x, ["a", "k"], x[:, 0], method="saltelli", vary=vary)
+    des = design(open_run(path))
+    assert des.columns == ["a", "k"] and des.names == ["a"] and des.x.shape == (16, 1)
+    assert des.block_index(4, "Saltelli").shape == (4, 4)

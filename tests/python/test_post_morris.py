@@ -64,3 +64,39 @@ def test_not_one_at_a_time(tmp_path):
     ds = open_run(path)
     with pytest.raises(RunFileError, match="exactly one input"):
         morris.analyze(ds, design(ds), "y", at=0.0)
+
+
+def test_labels_let_the_runs_come_in_any_order(tmp_path):
+    """With /design_block, /design_row and /design_input the analysis does not depend on the
+    order in which the runs are stored."""
+    from post_fixtures import design_labels, write_run
+    x = morris_design(12, 3, seed=5)
+    y = x @ [4.0, -2.0, 1.0] + x[:, 0] * x[:, 1]
+    labels = design_labels("morris", x)
+    perm = np.random.default_rng(1).permutation(x.shape[0])
+    ordered = write_function_run(tmp_path / "o.h5", x, ["a", "b", "c"], y, method="morris", vary=VARY)
+    shuffled = write_run(tmp_path / "s.h5", time=[0.0], state_names=["y"], parameter_names=["a", "b", "c"],
+                         parameters=x[perm], states=y[perm, None, None], sampling_method="morris",
+                         study={"kanesens": 1, "vary": VARY}, design={k: v[perm] for k, v in labels.items()})
+    r = [morris.analyze(ds, design(ds), "y", at=0.0) for ds in map(open_run, (ordered, shuffled))]
+    for key in ("mu", "mu_star", "sigma"):
+        np.testing.assert_allclose(r[1][key], r[0][key], rtol=1e-12)
+    assert r[0]["mu_star"][2] == pytest.approx(1.0)
+
+
+def test_fixed_input_step_is_skipped(tmp_path):
+    """A fixed input still takes a step in kanesens's trajectories (nothing changes there): it
+    is left out, the other inputs' effects are exact."""
+    x = morris_design(10, 3, seed=2)
+    x[:, 1] = 0.5                                    # input k: fixed
+    y = 3 * x[:, 0] - x[:, 2]
+    labels_x = morris_design(10, 3, seed=2)          # the design kanesens ran, k's steps included
+    from post_fixtures import design_labels, write_run
+    vary = {"a": VARY["a"], "k": {"dist": "fixed", "value": 0.5}, "c": VARY["c"]}
+    path = write_run(tmp_path / "k.h5", time=[0.0], state_names=["y"], parameter_names=["a", "k", "c"],
+                     parameters=x, states=y[:, None, None], sampling_method="morris",
+                     study={"kanesens": 1, "vary": vary}, design=design_labels("morris", labels_x))
+    ds = open_run(path)
+    r = morris.analyze(ds, design(ds), "y", at=0.0)
+    assert r["inputs"] == ["a", "c"]
+    np.testing.assert_allclose(r["mu"], [3, -1], atol=1e-12)

@@ -12,7 +12,9 @@ import pytest
 from kanesens_post.cli import main
 from post_fixtures import pendulum_saltelli
 
-SHIM = Path(__file__).resolve().parents[2] / "scripts" / "kanesens-post"
+# The package in the source tree (python/), run as `python -m kanesens_post` in a subprocess
+# so that exit statuses and stderr are those a user sees.
+PACKAGE_DIR = Path(__file__).resolve().parents[2] / "python"
 
 
 @pytest.fixture(scope="module")
@@ -21,8 +23,10 @@ def run_file(tmp_path_factory):
 
 
 def post(*args):
-    env = dict(os.environ, KANESENS_PYTHON=sys.executable)
-    return subprocess.run([str(SHIM), *map(str, args)], capture_output=True, text=True, env=env)
+    path = os.pathsep.join(filter(None, [str(PACKAGE_DIR), os.environ.get("PYTHONPATH")]))
+    env = dict(os.environ, PYTHONPATH=path)
+    return subprocess.run([sys.executable, "-m", "kanesens_post", *map(str, args)],
+                          capture_output=True, text=True, env=env)
 
 
 @pytest.mark.parametrize("kind, extra", [("states", ["--outputs", "energy", "--states",

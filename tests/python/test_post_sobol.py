@@ -122,3 +122,32 @@ def test_explicit_block_labels(tmp_path):
     ds = open_run(path)
     r = sobol.analyze(ds, design(ds), "y", at=0.0, n_boot=0)
     np.testing.assert_allclose(r["S1"], [0.2, 0.8], atol=0.05)
+
+
+def test_older_file_gives_the_same_indices(tmp_path):
+    """A file without the design labels and /vary (older kanesens) is read by row order and
+    gives the same numbers."""
+    from post_fixtures import pendulum_saltelli
+    new = open_run(pendulum_saltelli(tmp_path / "new.h5", n_base=64, nt=21))
+    old = open_run(pendulum_saltelli(tmp_path / "old.h5", n_base=64, nt=21, legacy=True))
+    assert design(new).labels == "file" and design(old).labels == "row order"
+    r_new = sobol.analyze(new, design(new), "pivot.q", at=5.0, n_boot=0)
+    r_old = sobol.analyze(old, design(old), "pivot.q", at=5.0, n_boot=0)
+    np.testing.assert_array_equal(r_new["S1"], r_old["S1"])
+    np.testing.assert_array_equal(r_new["ST"], r_old["ST"])
+
+
+def test_fixed_input_in_the_design(tmp_path):
+    """y = a + 2b with a fixed input k between them: kanesens's blocks have P + 2 = 5 runs
+    (AB^(k) included); the indices are those of a and b alone."""
+    ppfs = [lambda u: u, lambda u: 0 * u + 3.0, lambda u: u]
+    x, _, _ = saltelli_design(256, ppfs, seed=5)
+    vary = {"a": {"dist": "uniform", "low": 0.0, "high": 1.0}, "k": {"dist": "fixed", "value": 3.0},
+            "b": {"dist": "uniform", "low": 0.0, "high": 1.0}}
+    path = write_function_run(tmp_path / "f.h5", x, ["a", "k", "b"], x[:, 0] + 2 * x[:, 2],
+                              method="saltelli", vary=vary)
+    ds = open_run(path)
+    r = sobol.analyze(ds, design(ds), "y", at=0.0, n_boot=0)
+    assert r["inputs"] == ["a", "b"] and r["base_points"] == 256
+    np.testing.assert_allclose(r["S1"], [0.2, 0.8], atol=0.05)
+    np.testing.assert_allclose(r["ST"], [0.2, 0.8], atol=0.05)

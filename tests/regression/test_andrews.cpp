@@ -19,12 +19,13 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "sim/simulate.hpp"
+#include "../support/layers.hpp"
 
-namespace ks = kanesens;
+namespace ks = kanesens::testing;
 
 namespace {
 
@@ -341,20 +342,20 @@ TEST(Andrews, ConsistentInitialConditionsFromPerturbedStart) {
 namespace {
 struct EndState {
   std::vector<double> y, lambda, ydot;
-  ks::solve::SolverStats stats;
+  ks::SolverStats stats;
   double g_end = 0, gdot_end = 0, energy_balance = 0;
 };
-EndState integrate_to_end(const ks::Model& m, ks::ConstraintOptions::Stabilization stab, ks::solve::Method method,
+EndState integrate_to_end(const ks::Model& m, ks::ConstraintOptions::Stabilization stab, ks::Method method,
                           double rtol, double atol) {
   ks::ConstraintOptions co;
   co.stabilization = stab;
   ks::KaneProblem problem(m, {}, co);
-  ks::solve::SolverOptions o;
+  ks::SolverOptions o;
   o.method = method;
   o.rtol = rtol;
   o.atol = atol;
   o.max_steps = 200000;
-  ks::solve::Integrator integ(o);
+  ks::Integrator integ(o);
   ks::RecordFlags flags;
   flags.sensitivities = false;
   flags.multipliers = true;
@@ -429,7 +430,7 @@ void compare_end(const char* label, const EndState& e, const Reference& ref, Tol
 }
 
 using Stab = ks::ConstraintOptions::Stabilization;
-using ks::solve::Method;
+using ks::Method;
 }  // namespace
 
 TEST(Andrews, EndTimeBdfProjectionRtol1e10) {

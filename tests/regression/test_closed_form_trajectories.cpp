@@ -17,14 +17,15 @@
 #include "../support/closed_forms.hpp"
 #include "../support/kane_test_support.hpp"
 #include "sim/simulate.hpp"
+#include "../support/layers.hpp"
 
-namespace ks = kanesens;
+namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
 namespace {
 
-ks::solve::SolverOptions options(double rtol, double atol) {
-  ks::solve::SolverOptions o;
+ks::SolverOptions options(double rtol, double atol) {
+  ks::SolverOptions o;
   o.rtol = rtol;
   o.atol = atol;
   return o;
@@ -40,13 +41,13 @@ struct SimRun {
 };
 
 SimRun simulate_scene(const ks::Model& m, const std::vector<std::string>& sens_names,
-                      const ks::SampleInputs& inputs, const ks::solve::SolverOptions& o,
+                      const ks::SampleInputs& inputs, const ks::SolverOptions& o,
                       const std::vector<double>& times) {
   std::vector<ks::InputRef> sens;
   for (const auto& s : sens_names) sens.push_back(ks::resolve_input(m, s, "test"));
   ks::KaneProblem problem(m, sens);
   problem.set_sample(inputs);
-  ks::solve::Integrator integ(o);
+  ks::Integrator integ(o);
   SimRun run;
   run.n = static_cast<std::size_t>(m.nstate());
   run.ns = sens.size();
@@ -73,8 +74,8 @@ scene:
 struct OscillatorCase {
   const char* name;
   bool ic_names;  // sensitivities to slider.q0/slider.u0 instead of the parameters x0/v0
-  ks::solve::SensitivityRhs sens_rhs;
-  ks::solve::JacobianKind jacobian;
+  ks::SensitivityRhs sens_rhs;
+  ks::JacobianKind jacobian;
 };
 
 class DampedOscillator : public ::testing::TestWithParam<OscillatorCase> {};
@@ -91,8 +92,8 @@ TEST_P(DampedOscillator, StateAndSensitivitiesMatchClosedForm) {
                  : std::vector<std::string>{"x0", "v0", "m", "c", "k"};
   // CVODES's DQ sensitivity RHS perturbs y by about the error tolerance: its round-off grows as
   // eps/rtol, so it runs at rtol 1e-8 (see tests/unit/test_integrator.cpp); exact at 1e-10.
-  const bool dq = c.sens_rhs == ks::solve::SensitivityRhs::dq;
-  ks::solve::SolverOptions o = dq ? options(1e-8, 1e-10) : options(1e-10, 1e-12);
+  const bool dq = c.sens_rhs == ks::SensitivityRhs::dq;
+  ks::SolverOptions o = dq ? options(1e-8, 1e-10) : options(1e-10, 1e-12);
   o.sens_rhs = c.sens_rhs;
   o.jacobian = c.jacobian;
   const SimRun run = simulate_scene(m, sens, ks::SampleInputs(m), o, times);
@@ -126,17 +127,17 @@ TEST_P(DampedOscillator, StateAndSensitivitiesMatchClosedForm) {
 
 INSTANTIATE_TEST_SUITE_P(
     Variants, DampedOscillator,
-    ::testing::Values(OscillatorCase{"params/exact/exactJ", false, ks::solve::SensitivityRhs::exact,
-                                     ks::solve::JacobianKind::exact},
+    ::testing::Values(OscillatorCase{"params/exact/exactJ", false, ks::SensitivityRhs::exact,
+                                     ks::JacobianKind::exact},
                       OscillatorCase{"ic_names/exact/exactJ", true,
-                                     ks::solve::SensitivityRhs::exact,
-                                     ks::solve::JacobianKind::exact},
-                      OscillatorCase{"params/exact/dqJ", false, ks::solve::SensitivityRhs::exact,
-                                     ks::solve::JacobianKind::dq},
-                      OscillatorCase{"params/dq/exactJ", false, ks::solve::SensitivityRhs::dq,
-                                     ks::solve::JacobianKind::exact},
-                      OscillatorCase{"ic_names/dq/dqJ", true, ks::solve::SensitivityRhs::dq,
-                                     ks::solve::JacobianKind::dq}),
+                                     ks::SensitivityRhs::exact,
+                                     ks::JacobianKind::exact},
+                      OscillatorCase{"params/exact/dqJ", false, ks::SensitivityRhs::exact,
+                                     ks::JacobianKind::dq},
+                      OscillatorCase{"params/dq/exactJ", false, ks::SensitivityRhs::dq,
+                                     ks::JacobianKind::exact},
+                      OscillatorCase{"ic_names/dq/dqJ", true, ks::SensitivityRhs::dq,
+                                     ks::JacobianKind::dq}),
     [](const ::testing::TestParamInfo<OscillatorCase>& i) {
       std::string s = i.param.name;
       for (char& ch : s)

@@ -17,8 +17,9 @@
 #include <cstdio>
 
 #include "../support/constraint_test_support.hpp"
+#include "../support/layers.hpp"
 
-namespace ks = kanesens;
+namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
 namespace {

@@ -23,9 +23,10 @@
 #include <cstdio>
 
 #include "../support/constraint_test_support.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
+#include "../support/layers.hpp"
 
-namespace ks = kanesens;
+namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
 namespace {

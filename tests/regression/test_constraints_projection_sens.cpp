@@ -20,8 +20,9 @@
 #include <map>
 
 #include "../support/constraint_test_support.hpp"
+#include "../support/layers.hpp"
 
-namespace ks = kanesens;
+namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
 namespace {

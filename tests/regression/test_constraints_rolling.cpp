@@ -24,8 +24,9 @@
 #include <random>
 
 #include "../support/constraint_test_support.hpp"
+#include "../support/layers.hpp"
 
-namespace ks = kanesens;
+namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
 namespace {

@@ -6,11 +6,12 @@
 #include <cmath>
 
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
-#include "scene/yaml_util.hpp"
+#include "model/scene/parse_scene.hpp"
+#include "model/yaml_reader.hpp"
 #include "sim/simulate.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 
@@ -48,10 +49,10 @@ Run run(const std::string& text, ConstraintOptions::Formulation f, const std::ve
   co.stabilization = ConstraintOptions::Stabilization::projection;
   KaneProblem problem(model, refs, co);
   problem.set_sample(SampleInputs(model));
-  solve::SolverOptions so;
+  sim::SolverOptions so;
   so.rtol = 1e-11;
   so.atol = 1e-12;
-  solve::Integrator integ(so);
+  sim::Integrator integ(so);
   std::vector<double> times;
   for (int k = 0; k <= 40; ++k) times.push_back(0.05 * k);
   RecordFlags flags;
@@ -94,7 +95,7 @@ void compare(const std::string& text, const std::vector<std::string>& sens) {
 }  // namespace
 
 TEST(Embedding, AgreesWithMultipliersOnPinnedPendulum) {
-  compare(yaml::read_file(std::string(KANESENS_SOURCE_DIR) + "/configs/constrained_pendulum.yaml"), {"m", "L", "base.q0[2]"});
+  compare(model::read_text_file(std::string(KANESENS_SOURCE_DIR) + "/configs/constrained_pendulum.yaml"), {"m", "L", "base.q0[2]"});
 }
 
 TEST(Embedding, AgreesWithMultipliersOnFourBar) { compare(kFourBar, {"a", "m", "j1.u0"}); }

@@ -30,8 +30,9 @@
 
 #include "../support/kane_test_support.hpp"
 #include "sim/simulate.hpp"
+#include "../support/layers.hpp"
 
-namespace ks = kanesens;
+namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
 namespace {
@@ -101,8 +102,8 @@ const std::vector<SceneCase>& scenes() {
   return s;
 }
 
-ks::solve::SolverOptions options(double rtol, double atol) {
-  ks::solve::SolverOptions o;
+ks::SolverOptions options(double rtol, double atol) {
+  ks::SolverOptions o;
   o.rtol = rtol;
   o.atol = atol;
   return o;
@@ -129,15 +130,15 @@ double nominal_input(const ks::Model& m, const ks::InputRef& ref) {
 
 struct Sensitivities {
   std::vector<double> s;  // T × n × ns, as ks::Trajectory
-  ks::solve::SolverStats stats;
+  ks::SolverStats stats;
   double wall = 0;
 };
 
 Sensitivities run_sensitivities(const ks::Model& m, const std::vector<ks::InputRef>& sens,
-                                const ks::solve::SolverOptions& o,
+                                const ks::SolverOptions& o,
                                 const std::vector<double>& times) {
   ks::KaneProblem problem(m, sens);
-  ks::solve::Integrator integ(o);
+  ks::Integrator integ(o);
   ks::Trajectory tr;
   ks::RecordFlags flags;
   flags.energy = false;
@@ -154,7 +155,7 @@ std::vector<double> finite_differences(const ks::Model& m, const std::vector<ks:
   const std::size_t n = static_cast<std::size_t>(m.nstate()), ns = sens.size(), T = times.size();
   std::vector<double> fd(T * n * ns, 0.0);
   ks::KaneProblem problem(m, {});
-  ks::solve::Integrator integ(options(1e-13, 1e-14));
+  ks::Integrator integ(options(1e-13, 1e-14));
   ks::RecordFlags flags;
   flags.sensitivities = false;
   flags.energy = false;
@@ -213,22 +214,22 @@ TEST_P(SensitivitiesVsFiniteDifferences, ExactSensitivityRhsAgreesWithTrajectory
 
   struct Variant {
     const char* label;
-    ks::solve::SensitivityRhs rhs;
+    ks::SensitivityRhs rhs;
     double rtol, atol;
-    ks::solve::Method method = ks::solve::Method::bdf;
+    ks::Method method = ks::Method::bdf;
   };
   // The last row: the explicit DOP853 (its sensitivities from its own stages, not CVODES).
   const std::vector<Variant> variants = {
-      {"exact", ks::solve::SensitivityRhs::exact, 1e-10, 1e-12},
-      {"exact", ks::solve::SensitivityRhs::exact, 1e-8, 1e-10},
-      {"dq", ks::solve::SensitivityRhs::dq, 1e-8, 1e-10},
-      {"dop853", ks::solve::SensitivityRhs::exact, 1e-10, 1e-12, ks::solve::Method::dop853},
+      {"exact", ks::SensitivityRhs::exact, 1e-10, 1e-12},
+      {"exact", ks::SensitivityRhs::exact, 1e-8, 1e-10},
+      {"dq", ks::SensitivityRhs::dq, 1e-8, 1e-10},
+      {"dop853", ks::SensitivityRhs::exact, 1e-10, 1e-12, ks::Method::dop853},
   };
   std::printf("\n  %-16s %-5s %-6s  %-9s  %6s %8s %9s %12s %9s\n", sc.name, "rhs", "rtol",
               "max err", "steps", "rhs", "sens rhs", "rhs for sens", "wall s");
   std::vector<std::vector<double>> err_of;
   for (const Variant& v : variants) {
-    ks::solve::SolverOptions o = options(v.rtol, v.atol);
+    ks::SolverOptions o = options(v.rtol, v.atol);
     o.sens_rhs = v.rhs;
     o.method = v.method;
     const Sensitivities r = run_sensitivities(m, sens, o, times);

@@ -9,9 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "kane_test_support.hpp"
 #include "sim/simulate.hpp"
+#include "layers.hpp"
 
 namespace kanesens::testing {
 
@@ -42,8 +43,8 @@ inline ConstraintOptions constraint_options(Stab s) {
   return c;
 }
 
-inline solve::SolverOptions tolerances(double rtol, double atol) {
-  solve::SolverOptions o;
+inline sim::SolverOptions tolerances(double rtol, double atol) {
+  sim::SolverOptions o;
   o.rtol = rtol;
   o.atol = atol;
   return o;
@@ -69,7 +70,7 @@ struct TrajRun {
 
 // One trajectory with multipliers, residuals and (if `sens` is not empty) sensitivities.
 inline TrajRun run(const Model& model, const std::vector<double>& times, ConstraintOptions copt,
-               const solve::SolverOptions& sopt, const std::vector<std::string>& sens = {},
+               const sim::SolverOptions& sopt, const std::vector<std::string>& sens = {},
                const std::vector<std::pair<std::string, double>>& set = {}) {
   std::vector<InputRef> refs;
   for (const auto& name : sens) refs.push_back(resolve_input(model, name, "test"));
@@ -77,7 +78,7 @@ inline TrajRun run(const Model& model, const std::vector<double>& times, Constra
   SampleInputs in(model);
   for (const auto& [name, v] : set) in.set(resolve_input(model, name, "test"), v);
   problem.set_sample(in);
-  solve::Integrator integ(sopt);
+  sim::Integrator integ(sopt);
   RecordFlags flags;
   flags.sensitivities = !refs.empty();
   flags.multipliers = model.nconstraint_rows > 0;
@@ -91,7 +92,7 @@ inline TrajRun run(const Model& model, const std::vector<double>& times, Constra
   return r;
 }
 
-// Multipliers, rank and u̇ at one state, straight from the kane/ functions.
+// Multipliers, rank and u̇ at one state, straight from the dynamics/ functions.
 struct Evaluation {
   std::vector<double> lambda, ydot;
   int rank = 0;

@@ -10,8 +10,9 @@
 #include <vector>
 
 #include "model/build_model.hpp"
-#include "model/workspace.hpp"
-#include "scene/parse_scene.hpp"
+#include "dynamics/workspace.hpp"
+#include "model/scene/parse_scene.hpp"
+#include "layers.hpp"
 
 namespace kanesens::testing {
 

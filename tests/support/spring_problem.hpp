@@ -1,15 +1,16 @@
-// The undamped oscillator x'' = −(k/m) x, x(0) = x0, v(0) = 0, as a bare solve::OdeProblem with
+// The undamped oscillator x'' = −(k/m) x, x(0) = x0, v(0) = 0, as a bare sim::OdeProblem with
 // the sensitivity to k, and its closed form: x = x0 cos ωt, ω = √(k/m),
 // ∂x/∂k = −x0 t sin(ωt) / (2 m ω). Shared by the integrator tests (test_rk4, test_dop853).
 #pragma once
 #include <cmath>
 #include <stdexcept>
 
-#include "solve/ode_problem.hpp"
+#include "sim/solve/ode_problem.hpp"
+#include "layers.hpp"
 
 namespace kanesens::testing {
 
-class Spring : public solve::OdeProblem {
+class Spring : public sim::OdeProblem {
  public:
   explicit Spring(double k, double m = 1, double x0 = 1) : k_(k), m_(m), x0_(x0) {}
   int size() const override { return 2; }

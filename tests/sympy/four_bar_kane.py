@@ -17,7 +17,7 @@ KanesMethod's ``mass_matrix``/``forcing`` with dependent speeds are 3×3/3: the 
 dynamical equation (for u1') stacked on the two differentiated velocity constraints
 A u' + A' u = 0, so ``solve(M, f)`` gives all three u' at a consistent state.
 
-Used by four_bar_quadrature.py (the energy-quadrature reference), scripts/bench_peers_fourbar_sympy.py
+Used by four_bar_quadrature.py (the energy-quadrature reference), bench/bench_peers_fourbar_sympy.py
 and tests/python/test_fourbar_vs_sympy.py.
 """
 

@@ -9,13 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "expr/expression.hpp"
+#include "model/expr/expression.hpp"
 #include "model/build_model.hpp"
 #include "parallel/ensemble.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "sim/kane_problem.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 
@@ -80,7 +81,7 @@ std::string error_of(const Case& c) {
     switch (c.kind) {
       case Kind::scene: {  // what `kanesens check` does
         const Model m = build_model(parse_scene_text(c.text, "s.yaml"));
-        KaneProblem(m, {}).check_initial_state();
+        KaneProblem(m, {}).validate_initial_state();
         break;
       }
       case Kind::study: {
@@ -155,7 +156,7 @@ std::vector<Case> scene_cases() {
       {"ConstraintNameWithDot", Kind::scene, with_constraint("{name: pin.x, type: coupler, joint_a: j1, joint_b: j2}"), {"s.yaml:13:", "scene.constraints[0].name", "'pin.x' is not a valid name"}},
       {"ConstraintNamedLikeAnotherRow", Kind::scene, with_constraint("{name: coincident1, type: coupler, joint_a: j1, joint_b: j2}\n    - {type: coincident, body_a: b, body_b: ground}"), {"s.yaml:14:", "scene.constraints[1].name", "duplicate constraint name 'coincident1'"}},
       {"GeneralSpeedTwice", Kind::scene, with_constraint("{name: g, type: general, a: {j1.u: 1, j1.u: 2}}"), {"s.yaml:13:", "scene.constraints[0].a.j1.u", "given twice"}},
-      {"GeneralNonScalarSpeedKey", Kind::scene, with_constraint("{name: g, type: general, a: {[j1.u]: 1}}"), {"s.yaml:13:", "scene.constraints[0].a", "expected a speed name"}},
+      {"GeneralNonScalarSpeedKey", Kind::scene, with_constraint("{name: g, type: general, a: {[j1.u]: 1}}"), {"s.yaml:13:", "scene.constraints[0].a", "expected a name, got a list"}},
       {"UniversalParallelAxes", Kind::scene, edit(s, "{name: j2, type: revolute, parent: a, child: b, axis: [0, 0, 1]", "{name: j2, type: universal, parent: a, child: b, axes: [[0, 0, 1], [0, 0, \"-L\"]]"), {"s.yaml:11:", "scene.joints[1].axes[1]", "two axes are parallel"}},
       {"NoDegreesOfFreedom", Kind::scene, edit(edit(s, "type: revolute, parent: ground, child: a, axis: [0, 0, 1]", "type: weld, parent: ground, child: a"), "type: revolute, parent: a, child: b, axis: [0, 0, 1]", "type: weld, parent: a, child: b"), {"s.yaml:3:3", "scene.joints", "no degrees of freedom"}},
       {"TooManyBodies", Kind::scene, [] {
@@ -371,16 +372,19 @@ TEST(BadInputTable, Count) {
   EXPECT_GE(n, 100u);
 }
 
-// A SceneSpec is also built by code (not only parsed): more than three components must not
-// write past the 3-element array of a Constraint.
-TEST(BadInputTable, FourComponentsFromCodeAreRefusedAtBuild) {
+// A SceneSpec is also built by code (not only parsed): components must be valid indices, at
+// most three and distinct, or they would write past the 3-element array of a Constraint.
+TEST(BadInputTable, ComponentsFromCodeAreCheckedAtBuild) {
   SceneSpec spec = parse_scene_text(with_constraint("{name: pin, type: coincident, body_a: b, body_b: ground}"), "s.yaml");
-  spec.constraints[0].components = {"x", "y", "z", "w"};
-  try {
-    build_model(spec);
-    ADD_FAILURE() << "accepted four components";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("at most 3 components"), std::string::npos) << e.what();
+  for (const auto& [components, says] : std::vector<std::pair<std::vector<int>, std::string>>{
+           {{0, 1, 2, 0}, "at most 3 components"}, {{0, 7}, "expected x, y or z"}, {{1, 1}, "'y' is given twice"}}) {
+    spec.constraints[0].components = components;
+    try {
+      build_model(spec);
+      ADD_FAILURE() << "accepted components " << says;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
   }
 }
 
@@ -390,17 +394,17 @@ TEST(BadInputTable, GoodTextsAreGood) {
   // y do not (tests/regression/test_constraints_pendulum.cpp integrates it).
   {
     const Model m = build_model(parse_scene_text(with_constraint("{name: pin, type: coincident, body_a: b, body_b: ground, point_b: [0, -0.5, 0], components: [x, y, z]}"), "s.yaml"));
-    EXPECT_NO_THROW(KaneProblem(m, {}).check_initial_state());
+    EXPECT_NO_THROW(KaneProblem(m, {}).validate_initial_state());
   }
   // Huge but finite quaternion components are normalised, and a free joint's translation is a
   // coordinate a position function may use.
   {
     const Model m = build_model(parse_scene_text(edit(kBall, "child_point: [0, 1, 0]}", "child_point: [0, 1, 0], q0: [1e200, 1e200, 0, 0]}"), "s.yaml"));
-    EXPECT_NO_THROW(KaneProblem(m, {}).check_initial_state());
+    EXPECT_NO_THROW(KaneProblem(m, {}).validate_initial_state());
     const std::string free = edit(edit(kBall, "type: spherical", "type: free"), "child_point: [0, 1, 0]}", "q0: [0, 1, 0, 1, 0, 0, 0]}") +
                              "  constraints:\n    - {name: g, type: general, position: \"j.x^2 + j.y^2 - 1\"}\n";
     const Model mf = build_model(parse_scene_text(free, "s.yaml"));
-    EXPECT_NO_THROW(KaneProblem(mf, {}).check_initial_state());
+    EXPECT_NO_THROW(KaneProblem(mf, {}).validate_initial_state());
   }
   const auto path = temp_dir() / "good.yaml";
   std::ofstream(path) << kStudy;

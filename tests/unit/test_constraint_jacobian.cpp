@@ -8,11 +8,12 @@
 
 #include <random>
 
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "kane_test_support.hpp"
-#include "sim/min_norm_solver.hpp"
+#include "math/min_norm_solver.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 using kanesens::testing::qdot_of;
 
 namespace {

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "study/distribution.hpp"
 #include "study/parse_vary.hpp"
@@ -81,6 +83,32 @@ TEST(Distribution, DescribeUsesShortestRoundTripNumbers) {
   EXPECT_EQ(parse("{dist: choice, values: [3, 0.5]}").describe(), "choice(values=[0.5, 3])");
   EXPECT_EQ(parse("{dist: fixed, value: 2.5}").describe(), "fixed(value=2.5)");
   EXPECT_EQ(parse("{dist: fixed, value: 2.5}").kind_name(), "fixed");
+}
+
+// named_parameters() (what the run file's /vary groups hold) gives back exactly the keys and
+// numbers of the study text, whatever the kind.
+TEST(Distribution, NamedParametersAreTheStudyKeys) {
+  for (const char* text :
+       {"{dist: uniform, low: 0.8, high: 1.2}", "{dist: normal, mean: 0.5, std: 0.05}",
+        "{dist: truncnormal, mean: 0, std: 1, low: -1, high: 2}",
+        "{dist: lognormal, mu: 0.1, sigma: 0.4}", "{dist: triangular, low: 1, mode: 1.5, high: 3}",
+        "{dist: fixed, value: 2.5}", "{dist: choice, values: [3, 0.5]}"}) {
+    const YAML::Node node = YAML::Load(text);
+    const ks::Distribution d = parse(text);
+    EXPECT_EQ(d.kind_name(), node["dist"].as<std::string>());
+    std::size_t keys = 0;
+    for (const auto& kv : node) {
+      const auto key = kv.first.as<std::string>();
+      if (key == "dist" || key == "values") continue;
+      ++keys;
+      const auto named = d.named_parameters();
+      const auto it =
+          std::find_if(named.begin(), named.end(), [&](const auto& e) { return e.first == key; });
+      ASSERT_NE(it, named.end()) << text << ": " << key;
+      EXPECT_EQ(it->second, kv.second.as<double>()) << text << ": " << key;
+    }
+    EXPECT_EQ(d.named_parameters().size(), keys) << text;
+  }
 }
 
 TEST(Distribution, FindProblemNamesTheKeyAndTheValues) {

@@ -13,11 +13,11 @@
 #include <stdexcept>
 #include <vector>
 
-#include "solve/dop853.hpp"
-#include "solve/integrator.hpp"
+#include "sim/solve/dop853.hpp"
+#include "sim/solve/integrator.hpp"
 #include "spring_problem.hpp"
 
-namespace ks = kanesens::solve;
+namespace ks = kanesens::sim;
 
 namespace {
 

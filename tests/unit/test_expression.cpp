@@ -2,11 +2,12 @@
 
 #include <cmath>
 
-#include "ad/dual.hpp"
-#include "expr/expression.hpp"
+#include "math/dual.hpp"
+#include "model/expr/expression.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
-using namespace kanesens::expr;
+using namespace kanesens::testing;
+using namespace kanesens::model::expr;
 
 namespace {
 NameTable table() {

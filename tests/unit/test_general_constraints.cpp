@@ -7,11 +7,12 @@
 #include <sstream>
 #include <string>
 
-#include "ad/dual.hpp"
-#include "kane/equations.hpp"
+#include "math/dual.hpp"
+#include "dynamics/equations.hpp"
 #include "kane_test_support.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 // n prismatic joints along x in a chain, n parameters p0..p{n-1} = 0.01 (i + 1), and one general
@@ -93,11 +94,11 @@ TEST(GeneralConstraints, AVanishingRowIsAReportedFailureNotAZeroMultiplier) {
   set_parameters(m, ws, p.data());
   std::vector<double> y(4, 0.0), ydot(4);
   RhsFailure why = RhsFailure::none;
-  EXPECT_FALSE(evaluate_rhs(m, ws, 0.0, y.data(), ydot.data(), &why));  // A = 2 j1.q = 0
+  EXPECT_FALSE(evaluate_rhs(m, ws, 0.0, y.data(), ydot.data(), {}, &why));  // A = 2 j1.q = 0
   EXPECT_EQ(why, RhsFailure::constraints_degenerate);
   EXPECT_EQ(ws.constraint_rank, 0);
   y[1] = 0.2;
-  EXPECT_TRUE(evaluate_rhs(m, ws, 0.0, y.data(), ydot.data(), &why));
+  EXPECT_TRUE(evaluate_rhs(m, ws, 0.0, y.data(), ydot.data(), {}, &why));
   EXPECT_EQ(why, RhsFailure::none);
   EXPECT_EQ(ws.constraint_rank, 1);
 }

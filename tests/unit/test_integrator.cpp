@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "closed_forms.hpp"
-#include "solve/integrator.hpp"
+#include "sim/solve/integrator.hpp"
 
-namespace ks = kanesens::solve;
+namespace ks = kanesens::sim;
 namespace kt = kanesens::testing;
 
 namespace {

@@ -13,9 +13,10 @@
 #include <gtest/gtest.h>
 
 #include "../support/kane_test_support.hpp"
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
+#include "../support/layers.hpp"
 
-namespace ks = kanesens;
+namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;

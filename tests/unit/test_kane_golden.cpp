@@ -1,6 +1,6 @@
 // Kane's M, f and u̇ on six scenes at seeded random states, against values recorded in
 // tests/data/kane_golden.txt from the straightforward implementation (commit 0f6f635, before
-// the speed work). Guards optimisations of kane/: results may change by round-off only.
+// the speed work). Guards optimisations of dynamics/: results may change by round-off only.
 // Regenerate (only when the equations themselves change, never to hide a difference):
 //   KANESENS_WRITE_GOLDEN=1 build/tests/test_kane_golden
 #include <gtest/gtest.h>
@@ -11,12 +11,13 @@
 #include <random>
 #include <sstream>
 
-#include "kane/equations.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "test_scenes.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 

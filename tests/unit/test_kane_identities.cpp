@@ -21,10 +21,11 @@
 #include <functional>
 
 #include "../support/kane_test_support.hpp"
-#include "ad/dual.hpp"
-#include "kane/equations.hpp"
+#include "math/dual.hpp"
+#include "dynamics/equations.hpp"
+#include "../support/layers.hpp"
 
-namespace ks = kanesens;
+namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;

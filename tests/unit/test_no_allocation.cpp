@@ -8,11 +8,12 @@
 #include <new>
 #include <random>
 
-#include "ad/dual.hpp"
-#include "kane/equations.hpp"
+#include "math/dual.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "test_scenes.hpp"
+#include "../support/layers.hpp"
 
 namespace {
 std::atomic<bool> g_counting{false};
@@ -47,7 +48,7 @@ void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 

@@ -5,13 +5,14 @@
 
 #include <random>
 
-#include "ad/dual.hpp"
-#include "kane/equations.hpp"
+#include "math/dual.hpp"
+#include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
 #include "test_scenes.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 

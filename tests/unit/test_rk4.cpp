@@ -13,10 +13,10 @@
 #include <stdexcept>
 #include <vector>
 
-#include "solve/rk4.hpp"
+#include "sim/solve/rk4.hpp"
 #include "spring_problem.hpp"
 
-namespace ks = kanesens::solve;
+namespace ks = kanesens::sim;
 
 namespace {
 

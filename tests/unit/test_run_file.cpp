@@ -5,11 +5,14 @@
 #include <mpi.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <sstream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -217,6 +220,85 @@ TEST_F(RunFileTest, EmptyDimensionsCreateNoDatasets) {
     EXPECT_FALSE(has_dataset(path_, absent)) << absent;
   }
   EXPECT_TRUE(has_dataset(path_, "/states"));
+}
+
+// Reads a whole int64 dataset, or a float64 attribute of a group (any shape), serially.
+std::vector<std::int64_t> read_int64s(const std::string& path, const std::string& dataset) {
+  File file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "H5Fopen");
+  Dataset d(H5Dopen2(file.get(), dataset.c_str(), H5P_DEFAULT), "H5Dopen2");
+  Dataspace space(H5Dget_space(d.get()), "H5Dget_space");
+  std::vector<std::int64_t> values(
+      static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get())));
+  check(H5Dread(d.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), "read");
+  return values;
+}
+
+std::vector<double> read_number_attribute(hid_t object, const std::string& name) {
+  Attribute attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), "H5Aopen");
+  Dataspace space(H5Aget_space(attr.get()), "H5Aget_space");
+  std::vector<double> values(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get())));
+  check(H5Aread(attr.get(), H5T_NATIVE_DOUBLE, values.data()), "H5Aread");
+  return values;
+}
+
+TEST_F(RunFileTest, WritesDesignLabelsInChunksAndDistributions) {
+  RunLayout l = small_layout();
+  l.record_sensitivities = l.record_multipliers = false;
+  l.nsamples = 70000;  // more than one chunk of labels
+  l.parameter_names = {"k", "m"};
+  std::int64_t seen = 0;
+  std::size_t largest = 0;
+  l.design_labels = [&](std::int64_t first, std::span<std::int64_t> block,
+                        std::span<std::int64_t> row, std::span<std::int64_t> input) {
+    EXPECT_EQ(first, seen);
+    seen += static_cast<std::int64_t>(block.size());
+    largest = std::max(largest, block.size());
+    for (std::size_t k = 0; k < block.size(); ++k) {
+      const std::int64_t i = first + static_cast<std::int64_t>(k);
+      block[k] = i / 3;
+      row[k] = i % 3;
+      input[k] = i % 3 - 1;
+    }
+  };
+  l.distributions = {{"k", "uniform", {{"low", 0.8}, {"high", 1.2}}, {}},
+                     {"m", "choice", {}, {0.5, 3.0}}};
+  RunFile::create(MPI_COMM_WORLD, path_, l, false).close();
+  EXPECT_EQ(seen, l.nsamples);
+  EXPECT_LT(largest, static_cast<std::size_t>(l.nsamples));  // bounded memory
+  const auto block = read_int64s(path_, "/design_block"), row = read_int64s(path_, "/design_row"),
+             input = read_int64s(path_, "/design_input");
+  ASSERT_EQ(block.size(), 70000u);
+  for (std::int64_t i : {0L, 1L, 2L, 65535L, 65536L, 65537L, 69999L}) {
+    const auto k = static_cast<std::size_t>(i);
+    EXPECT_EQ(block[k], i / 3);
+    EXPECT_EQ(row[k], i % 3);
+    EXPECT_EQ(input[k], i % 3 - 1);
+  }
+  File file(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "H5Fopen");
+  Group k(H5Gopen2(file.get(), "/vary/k", H5P_DEFAULT), "H5Gopen2");
+  EXPECT_EQ(read_text_attribute(k.get(), "distribution"), "uniform");
+  EXPECT_EQ(read_number_attribute(k.get(), "low"), std::vector<double>{0.8});
+  EXPECT_EQ(read_number_attribute(k.get(), "high"), std::vector<double>{1.2});
+  Group m(H5Gopen2(file.get(), "/vary/m", H5P_DEFAULT), "H5Gopen2");
+  EXPECT_EQ(read_text_attribute(m.get(), "distribution"), "choice");
+  EXPECT_EQ(read_number_attribute(m.get(), "values"), (std::vector<double>{0.5, 3.0}));
+}
+
+TEST_F(RunFileTest, NoLabelsOrDistributionsUnlessGiven) {
+  RunFile::create(MPI_COMM_WORLD, path_, small_layout(), false).close();
+  for (const char* absent : {"/design_block", "/design_row", "/design_input", "/vary"}) {
+    EXPECT_FALSE(has_dataset(path_, absent)) << absent;
+  }
+}
+
+TEST_F(RunFileTest, RefusesDistributionsOfUnknownOrUnnamableInputs) {
+  RunLayout l = small_layout();
+  l.distributions = {{"m", "uniform", {{"low", 0.0}, {"high", 1.0}}, {}}};  // "m" is no parameter
+  EXPECT_THROW(RunFile::create(MPI_COMM_WORLD, path_, l, false), std::invalid_argument);
+  l.parameter_names = {"a/b"};
+  l.distributions = {{"a/b", "uniform", {{"low", 0.0}, {"high", 1.0}}, {}}};
+  EXPECT_THROW(RunFile::create(MPI_COMM_WORLD, path_, l, false), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(path_));
 }
 
 TEST_F(RunFileTest, StoresLongTextAttributes) {

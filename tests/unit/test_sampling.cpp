@@ -294,6 +294,45 @@ TEST(Design, MorrisStepsChangeOneInputByDelta) {
   }
 }
 
+// The labels the run file records: checked against the unit points themselves (which
+// columns a run shares with A_j and B_j, which one a Morris step changed), not the index maths.
+TEST(Design, RunLabelsSayWhereEachRunSits) {
+  const std::size_t P = 3;
+  const ks::Design saltelli(spec_of(SamplingMethod::saltelli, 8, 3, true), uniform_inputs(P));
+  ASSERT_TRUE(saltelli.has_run_labels());
+  for (std::int64_t i = 0; i < saltelli.size(); ++i) {
+    const ks::RunLabel label = saltelli.run_label(i);
+    const std::int64_t first = label.block * static_cast<std::int64_t>(P + 2);
+    ASSERT_EQ(first + label.row, i);
+    const auto u = unit_row(saltelli, i), a = unit_row(saltelli, first),
+               b = unit_row(saltelli, first + 1);
+    for (std::size_t k = 0; k < P; ++k) {
+      const bool from_b = label.row == 1 || static_cast<std::int64_t>(k) == label.input;
+      EXPECT_EQ(u[k], from_b ? b[k] : a[k]) << "run " << i << " column " << k;
+    }
+    EXPECT_EQ(label.input, label.row >= 2 ? label.row - 2 : -1);
+  }
+  ks::SamplingSpec spec = spec_of(SamplingMethod::morris, 0, 5);
+  spec.trajectories = 6;
+  const ks::Design morris(spec, uniform_inputs(P));
+  ASSERT_TRUE(morris.has_run_labels());
+  for (std::int64_t i = 0; i < morris.size(); ++i) {
+    const ks::RunLabel label = morris.run_label(i);
+    EXPECT_EQ(label.block * static_cast<std::int64_t>(P + 1) + label.row, i);
+    if (label.row == 0) {
+      EXPECT_EQ(label.input, -1);
+      continue;
+    }
+    const auto before = unit_row(morris, i - 1), after = unit_row(morris, i);
+    for (std::size_t k = 0; k < P; ++k) {
+      EXPECT_EQ(after[k] != before[k], static_cast<std::int64_t>(k) == label.input) << "run " << i;
+    }
+  }
+  const ks::Design lhs(spec_of(SamplingMethod::lhs, 5), uniform_inputs(2));
+  EXPECT_FALSE(lhs.has_run_labels());
+  EXPECT_THROW(lhs.run_label(0), std::logic_error);
+}
+
 TEST(Design, SampleIsTheQuantileOfTheUnitSample) {
   std::vector<ks::VariedInput> inputs = {{"m", {ks::Normal{1.0, 0.1}}},
                                          {"k", {ks::LogNormal{0.0, 0.5}}}};

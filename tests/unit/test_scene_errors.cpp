@@ -2,9 +2,10 @@
 #include <gtest/gtest.h>
 
 #include "model/build_model.hpp"
-#include "scene/parse_scene.hpp"
+#include "model/scene/parse_scene.hpp"
+#include "../support/layers.hpp"
 
-using namespace kanesens;
+using namespace kanesens::testing;
 
 namespace {
 const char* kGood = R"(kanesens: 1
@@ -120,4 +121,14 @@ TEST(SceneErrors, SetUnknownParameter) {
     expect_has(e.what(), "no parameter 'mm'");
     expect_has(e.what(), "did you mean 'm'");
   }
+}
+
+// A coincident constraint keeps at most the three world components, each once (a repeated one
+// used to write past the end of the model's component array).
+TEST(SceneErrors, RepeatedConstraintComponent) {
+  const std::string e = error_of(std::string(kGood) +
+                                 "  constraints:\n    - {type: coincident, body_a: b, body_b: ground, components: [x, y, z, x]}\n");
+  expect_has(e, "s.yaml:13:");
+  expect_has(e, "scene.constraints[0].components");
+  expect_has(e, "component 'x' is given twice");
 }

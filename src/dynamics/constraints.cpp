@@ -1,0 +1,328 @@
+// Constraints Σ_k a_jk(q,t) u_k + a_j0(q,t) = 0 and the augmented solve with Lagrange
+// multipliers (docs/constraints.md):
+//     M u̇ = f + Aᵀλ,   A u̇ = −(Ȧu + ȧ0)  =: b
+// solved as u̇ = M⁻¹f + M⁻¹Aᵀλ with (A M⁻¹ Aᵀ) λ = b − A M⁻¹ f. A M⁻¹ Aᵀ is factored by a
+// pivoted Cholesky; when constraints are redundant (rank r < m) λ is the minimum-norm solution.
+#include <cmath>
+
+#include "math/dual.hpp"
+#include "math/cholesky.hpp"
+#include "dynamics/equations.hpp"
+#include "math/planar.hpp"
+
+namespace kanesens::dynamics {
+namespace {
+
+template <class S>
+Vec3<S> vec3(const Workspace<S>& ws, const Slot3& s) {
+  return {ws.values[s[0]], ws.values[s[1]], ws.values[s[2]]};
+}
+
+// World position, velocity and bias acceleration (u̇ = 0) of a point fixed in body b (−1: ground).
+template <class S>
+void point_kinematics(const Workspace<S>& ws, int b, const Vec3<S>& r, Vec3<S>& p, Vec3<S>& v, Vec3<S>& a) {
+  if (b < 0) {
+    p = r;
+    v.setZero();
+    a.setZero();
+    return;
+  }
+  p = ws.com[b] + ws.R[b] * r;
+  const Vec3<S> w = ws.velocity[b].template head<3>();
+  v = ws.velocity[b].template tail<3>() + w.cross(p);
+  const Vec3<S> alpha = ws.bias_acceleration[b].template head<3>();
+  a = ws.bias_acceleration[b].template tail<3>() + alpha.cross(p) + w.cross(v);
+}
+
+// Column k of the velocity of a point p fixed in body b: s_k.lin + s_k.ang × p (0 if k does not move b).
+template <class S>
+Vec3<S> point_partial(const Model& m, const Workspace<S>& ws, int b, int k, const Vec3<S>& p) {
+  if (b < 0 || !m.moves[b][k]) return Vec3<S>::Zero();
+  const Vec6<S>& s = ws.partial[k];
+  return s.template tail<3>() + s.template head<3>().cross(p);
+}
+
+// g, the velocity form and the bias of a general position constraint g(q, t) = 0 on scalar S.
+// The dual copies of q and the parameters live in the workspace (nq, np entries: any size,
+// no allocation here).
+template <class S>
+void general_position(const Model& m, Workspace<S>& ws, const Constraint& c, int row, const S* q) {
+  const int nq = m.nq, np = m.nparam();
+  auto& x1 = ws.general_q1;
+  auto& p1 = ws.general_p1;
+  for (int i = 0; i < np; ++i) p1[i] = DualT<S>(ws.parameters[i]);
+  expr::Inputs<DualT<S>> in1;
+  in1.parameters = p1.data();
+  // Velocity residual: dg/dt along (q̇, 1).
+  for (int i = 0; i < nq; ++i) x1[i] = DualT<S>(q[i], ws.qdot[i]);
+  in1.coordinates = x1.data();
+  in1.time = DualT<S>(ws.time, S(1));
+  const DualT<S> g1 = c.position.evaluate(in1);
+  ws.position_residual[row] = g1.v;
+  ws.velocity_residual[row] = g1.d;
+  // A row: ∂g/∂q_k for each speed k (u = q̇ joints).
+  for (int i = 0; i < nq; ++i) x1[i] = DualT<S>(q[i]);
+  in1.time = DualT<S>(ws.time);
+  for (int k = 0; k < m.nu; ++k) {
+    const int ci = c.position_coordinate[k];
+    if (ci < 0) {
+      ws.constraint_matrix(row, k) = S(0);
+      continue;
+    }
+    x1[ci].d = S(1);
+    ws.constraint_matrix(row, k) = c.position.evaluate(in1).d;
+    x1[ci].d = S(0);
+  }
+  // Bias: d²g/dt² with u̇ = 0, the ε1ε2 part of g(q + (ε1+ε2) q̇, t + ε1 + ε2).
+  using D2 = DualT<DualT<S>>;
+  auto& x2 = ws.general_q2;
+  auto& p2 = ws.general_p2;
+  for (int i = 0; i < np; ++i) p2[i] = D2(DualT<S>(ws.parameters[i]));
+  for (int i = 0; i < nq; ++i) x2[i] = D2(DualT<S>(q[i], ws.qdot[i]), DualT<S>(ws.qdot[i], S(0)));
+  expr::Inputs<D2> in2;
+  in2.parameters = p2.data();
+  in2.coordinates = x2.data();
+  in2.time = D2(DualT<S>(ws.time, S(1)), DualT<S>(S(1), S(0)));
+  ws.constraint_bias[row] = -c.position.evaluate(in2).d.d;
+}
+
+// A row, a0 and bias of a general velocity constraint Σ a_k u_k + a0 = 0.
+template <class S>
+void general_velocity(const Model& m, Workspace<S>& ws, const Constraint& c, int row, const S* q, const S* u) {
+  auto& x = ws.general_q1;
+  auto& p = ws.general_p1;
+  for (int i = 0; i < m.nparam(); ++i) p[i] = DualT<S>(ws.parameters[i]);
+  for (int i = 0; i < m.nq; ++i) x[i] = DualT<S>(q[i], ws.qdot[i]);
+  expr::Inputs<DualT<S>> in;
+  in.parameters = p.data();
+  in.coordinates = x.data();
+  in.time = DualT<S>(ws.time, S(1));
+  for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(row, k) = S(0);
+  S residual = S(0), bias = S(0);
+  for (const auto& [k, a] : c.a) {
+    const DualT<S> ak = a.evaluate(in);
+    ws.constraint_matrix(row, k) += ak.v;
+    residual += ak.v * u[k];
+    bias += ak.d * u[k];
+  }
+  const DualT<S> a0 = c.a0.evaluate(in);
+  ws.velocity_residual[row] = residual + a0.v;
+  ws.constraint_bias[row] = -(bias + a0.d);
+  ws.position_residual[row] = S(0);
+}
+
+}  // namespace
+
+template <class S>
+void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u, const DynamicsOptions& options) {
+  using std::sqrt;
+  if (m.evaluate_planar()) {
+    // The planar path keeps (ω_z, v_x, v_y); constraints read the 6-D partial velocities and
+    // bias accelerations, whose other components are zero in a planar motion.
+    auto lift = [](const PVec<S>& p) {
+      Vec6<S> v = Vec6<S>::Zero();
+      v[2] = p[0];
+      v[3] = p[1];
+      v[4] = p[2];
+      return v;
+    };
+    for (int k = 0; k < m.nu; ++k) ws.partial[k] = lift(ws.partial_planar[k]);
+    for (int b = 0; b < m.nbody(); ++b) ws.bias_acceleration[b] = lift(ws.bias_planar[b]);
+  }
+  for (const Constraint& c : m.constraints) {
+    const int r0 = c.row_offset;
+    switch (c.kind) {
+      case Constraint::Kind::coincident:
+      case Constraint::Kind::distance: {
+        Vec3<S> pa, va, aa, pb, vb, ab;
+        point_kinematics(ws, c.body_a, vec3(ws, c.point_a), pa, va, aa);
+        point_kinematics(ws, c.body_b, vec3(ws, c.point_b), pb, vb, ab);
+        if (c.kind == Constraint::Kind::coincident) {
+          for (int i = 0; i < c.nrows; ++i) {
+            const int comp = c.components[i];
+            for (int k = 0; k < m.nu; ++k)
+              ws.constraint_matrix(r0 + i, k) =
+                  point_partial(m, ws, c.body_a, k, pa)[comp] - point_partial(m, ws, c.body_b, k, pb)[comp];
+            ws.position_residual[r0 + i] = pa[comp] - pb[comp];
+            ws.velocity_residual[r0 + i] = va[comp] - vb[comp];
+            ws.constraint_bias[r0 + i] = -(aa[comp] - ab[comp]);
+          }
+        } else {
+          const Vec3<S> d = pb - pa, dd = vb - va;
+          const S L = sqrt(d.squaredNorm());
+          const Vec3<S> e = d / L;
+          const S ed = e.dot(dd);
+          for (int k = 0; k < m.nu; ++k)
+            ws.constraint_matrix(r0, k) = e.dot(point_partial(m, ws, c.body_b, k, pb) - point_partial(m, ws, c.body_a, k, pa));
+          ws.position_residual[r0] = L - ws.values[c.length];
+          ws.velocity_residual[r0] = ed;
+          ws.constraint_bias[r0] = -(e.dot(ab - aa) + (dd.squaredNorm() - ed * ed) / L);
+        }
+        break;
+      }
+      case Constraint::Kind::coupler: {
+        const S ratio = ws.values[c.ratio];
+        for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0, k) = S(0);
+        ws.constraint_matrix(r0, c.speed_a) += S(1);
+        ws.constraint_matrix(r0, c.speed_b) -= ratio;
+        ws.position_residual[r0] = q[c.coord_a] - ratio * q[c.coord_b] - ws.values[c.offset];
+        ws.velocity_residual[r0] = u[c.speed_a] - ratio * u[c.speed_b];
+        ws.constraint_bias[r0] = S(0);
+        break;
+      }
+      case Constraint::Kind::general:
+        if (c.has_position) general_position(m, ws, c, r0, q);
+        else general_velocity(m, ws, c, r0, q, u);
+        break;
+      case Constraint::Kind::rolling: {
+        // Contact point P = c + r d, d = −unit(n − (n·a) a): the wheel point nearest the plane.
+        const int b = c.body;
+        const Vec3<S> a = (ws.R[b] * vec3(ws, c.axis)).normalized();
+        const Vec3<S> n = vec3(ws, c.normal).normalized();
+        const Vec3<S> w = n - n.dot(a) * a;
+        const S wn = sqrt(w.squaredNorm());
+        const Vec3<S> wh = w / wn;
+        const S radius = ws.values[c.radius];
+        const Vec3<S> P = ws.com[b] - radius * wh;
+        const Vec3<S> omega = ws.velocity[b].template head<3>();
+        const Vec3<S> vO = ws.velocity[b].template tail<3>();
+        const Vec3<S> vc = vO + omega.cross(ws.com[b]);
+        // Ṗ = v_c + r ḋ, with ȧ = ω × a, ẇ = −(ȧ·n) a − (a·n) ȧ, ḋ = −(ẇ − ŵ(ŵ·ẇ))/|w|.
+        const Vec3<S> adot = omega.cross(a);
+        const Vec3<S> wdot = -adot.dot(n) * a - a.dot(n) * adot;
+        const Vec3<S> ddot = -(wdot - wh * wh.dot(wdot)) / wn;
+        const Vec3<S> Pdot = vc + radius * ddot;
+        const Vec3<S> alpha = ws.bias_acceleration[b].template head<3>();
+        const Vec3<S> bias = ws.bias_acceleration[b].template tail<3>() + alpha.cross(P) + omega.cross(Pdot);
+        const Vec3<S> vP = vO + omega.cross(P);
+        for (int i = 0; i < 3; ++i) {
+          for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0 + i, k) = point_partial(m, ws, b, k, P)[i];
+          ws.velocity_residual[r0 + i] = vP[i];
+          ws.constraint_bias[r0 + i] = -bias[i];
+          ws.position_residual[r0 + i] = S(0);
+        }
+        break;
+      }
+    }
+  }
+  if (options.baumgarte_alpha != 0 || options.baumgarte_beta != 0) {
+    const double a2 = 2 * options.baumgarte_alpha, b2 = options.baumgarte_beta * options.baumgarte_beta;
+    for (int r = 0; r < m.nconstraint_rows; ++r)
+      ws.constraint_bias[r] -= a2 * ws.velocity_residual[r] + b2 * ws.position_residual[r];
+  }
+}
+
+template <class S>
+bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
+  using std::sqrt;
+  const int n = m.nu, nc = m.nconstraint_rows;
+  // M⁻¹ Aᵀ, column by column.
+  for (int j = 0; j < nc; ++j) {
+    for (int k = 0; k < n; ++k) ws.scratch_nu[k] = ws.constraint_matrix(j, k);
+    math::cholesky_solve(ws.cholesky.data(), n, n, ws.scratch_nu.data());
+    for (int k = 0; k < n; ++k) ws.minv_at(k, j) = ws.scratch_nu[k];
+  }
+  // Schur complement and right-hand side b − A M⁻¹ f (ws.udot holds M⁻¹ f).
+  for (int i = 0; i < nc; ++i) {
+    S r = ws.constraint_bias[i];
+    for (int k = 0; k < n; ++k) r -= ws.constraint_matrix(i, k) * ws.udot[k];
+    ws.schur_rhs[i] = r;
+    for (int j = 0; j <= i; ++j) {
+      S s = S(0);
+      for (int k = 0; k < n; ++k) s += ws.constraint_matrix(i, k) * ws.minv_at(k, j);
+      ws.schur(i, j) = s;
+      ws.schur(j, i) = s;
+    }
+  }
+  // Pivoted Cholesky P W Pᵀ = L Lᵀ, pivots chosen on values; stops at rank r.
+  auto& W = ws.schur_factor;
+  W = ws.schur;
+  auto& perm = ws.schur_pivots;
+  for (int i = 0; i < nc; ++i) perm[i] = i;
+  double max0 = 0;
+  for (int i = 0; i < nc; ++i) max0 = std::max(max0, value_of(W(i, i)));
+  const double tol = 1e-11 * max0;
+  int r = 0;
+  for (; r < nc; ++r) {
+    int p = r;
+    for (int i = r + 1; i < nc; ++i)
+      if (value_of(W(i, i)) > value_of(W(p, p))) p = i;
+    if (!(value_of(W(p, p)) > tol)) break;
+    if (p != r) {
+      W.row(r).swap(W.row(p));
+      W.col(r).swap(W.col(p));
+      std::swap(perm[r], perm[p]);
+    }
+    W(r, r) = sqrt(W(r, r));
+    for (int i = r + 1; i < nc; ++i) W(i, r) /= W(r, r);
+    for (int j = r + 1; j < nc; ++j)
+      for (int i = j; i < nc; ++i) {
+        W(i, j) -= W(i, r) * W(j, r);
+        W(j, i) = W(i, j);
+      }
+  }
+  ws.constraint_rank = r;
+  // Particular solution in permuted order: [L1⁻ᵀ L1⁻¹ c1; 0].
+  auto& lam = ws.scratch_m;
+  for (int i = 0; i < nc; ++i) lam[i] = ws.schur_rhs[perm[i]];
+  for (int i = 0; i < r; ++i) {
+    S s = lam[i];
+    for (int k = 0; k < i; ++k) s -= W(i, k) * lam[k];
+    lam[i] = s / W(i, i);
+  }
+  for (int i = r - 1; i >= 0; --i) {
+    S s = lam[i];
+    for (int k = i + 1; k < r; ++k) s -= W(k, i) * lam[k];
+    lam[i] = s / W(i, i);
+  }
+  for (int i = r; i < nc; ++i) lam[i] = S(0);
+  if (r < nc) {
+    // Minimum-norm λ: remove the part of λ_p in null(A M⁻¹ Aᵀ), spanned by the columns of
+    // N = [−L1⁻ᵀ L2ᵀ; I] (permuted order): λ = λ_p − N (NᵀN)⁻¹ Nᵀ λ_p.
+    const int d = nc - r;
+    auto& N = ws.nullspace;  // nc × d used
+    for (int c = 0; c < d; ++c) {
+      for (int i = 0; i < r; ++i) N(i, c) = -W(r + c, i);  // −L2ᵀ column
+      for (int i = r - 1; i >= 0; --i) {                     // L1⁻ᵀ
+        S s = N(i, c);
+        for (int k = i + 1; k < r; ++k) s -= W(k, i) * N(k, c);
+        N(i, c) = s / W(i, i);
+      }
+      for (int i = r; i < nc; ++i) N(i, c) = S(i - r == c ? 1 : 0);
+    }
+    // Small d×d system (NᵀN) y = Nᵀ λ_p by Cholesky, in the (no longer needed) trailing
+    // block of W; NᵀN is positive definite, N having an identity block.
+    S* G = &W(r, r);
+    const std::ptrdiff_t ldg = W.outerStride();
+    for (int b = 0; b < d; ++b)
+      for (int a = 0; a <= b; ++a) {  // upper triangle
+        S s = S(0);
+        for (int i = 0; i < nc; ++i) s += N(i, a) * N(i, b);
+        G[b * ldg + a] = s;
+      }
+    // NᵀN has an identity block, so only a non-finite N (a non-finite system) fails here.
+    if (!math::cholesky_factor(G, ldg, G, ldg, d)) return false;
+    for (int a = 0; a < d; ++a) {  // y = Nᵀ λ_p, kept in schur_rhs (no longer needed)
+      S s = S(0);
+      for (int i = 0; i < nc; ++i) s += N(i, a) * lam[i];
+      ws.schur_rhs[a] = s;
+    }
+    math::cholesky_solve(G, ldg, d, ws.schur_rhs.data());
+    for (int i = 0; i < nc; ++i)
+      for (int a = 0; a < d; ++a) lam[i] -= N(i, a) * ws.schur_rhs[a];
+  }
+  for (int i = 0; i < nc; ++i) ws.multipliers[perm[i]] = lam[i];
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < nc; ++j) ws.udot[k] += ws.minv_at(k, j) * ws.multipliers[j];
+  return r > 0 || nc == 0;
+}
+
+#define KANESENS_INSTANTIATE(S)                                                          \
+  template void compute_constraints<S>(const Model&, Workspace<S>&, const S*, const S*,   \
+                                       const DynamicsOptions&);                          \
+  template bool solve_constrained_accelerations<S>(const Model&, Workspace<S>&);
+KANESENS_INSTANTIATE(double)
+KANESENS_INSTANTIATE(Dual)
+#undef KANESENS_INSTANTIATE
+
+}  // namespace kanesens::dynamics

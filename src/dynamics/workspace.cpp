@@ -1,0 +1,111 @@
+#include "dynamics/workspace.hpp"
+
+#include "math/dual.hpp"
+#include "model/parameters.hpp"
+
+namespace kanesens::dynamics {
+
+using math::unit_or_zero;
+
+template <class S>
+Workspace<S>::Workspace(const Model& m)
+    : parameters(m.nparam()),
+      values(m.expressions.size()),
+      mass(m.nbody()),
+      inertia_body(m.nbody()),
+      joint_axis(m.joints.size(), Vec3<S>::Zero()),
+      joint_axis2(m.joints.size(), Vec3<S>::Zero()),
+      plane_e1(m.joints.size(), Vec3<S>::Zero()),
+      plane_e2(m.joints.size(), Vec3<S>::Zero()),
+      parent_point(m.joints.size()),
+      child_point(m.joints.size()),
+      R(m.nbody()),
+      com(m.nbody()),
+      joint_point(m.joints.size()),
+      partial(m.nu),
+      inertia_world(m.nbody()),
+      spatial_inertia(m.nbody()),
+      velocity(m.nbody()),
+      bias_acceleration(m.nbody()),
+      composite_inertia(m.nbody()),
+      wrench(m.nbody()),
+      mass_matrix(m.nu, m.nu),
+      forcing(m.nu),
+      cholesky(m.nu, m.nu),
+      udot(m.nu),
+      qdot(m.nq),
+      constraint_matrix(m.nconstraint_rows, m.nu),
+      constraint_bias(m.nconstraint_rows),
+      velocity_residual(m.nconstraint_rows),
+      position_residual(m.nconstraint_rows),
+      multipliers(m.nconstraint_rows),
+      minv_at(m.nu, m.nconstraint_rows),
+      schur(m.nconstraint_rows, m.nconstraint_rows),
+      schur_factor(m.nconstraint_rows, m.nconstraint_rows),
+      schur_rhs(m.nconstraint_rows),
+      nullspace(m.nconstraint_rows, m.nconstraint_rows),
+      scratch_m(m.nconstraint_rows),
+      scratch_nu(m.nu),
+      schur_pivots(m.nconstraint_rows),
+
+      partial_planar(m.nu),
+      inertia_planar(m.nbody()),
+      composite_planar(m.nbody()),
+      velocity_planar(m.nbody()),
+      bias_planar(m.nbody()),
+      wrench_planar(m.nbody()),
+      prefix(7) {
+  bool general = false;
+  for (const Constraint& c : m.constraints) general = general || c.kind == Constraint::Kind::general;
+  if (general) {
+    general_q1.resize(m.nq);
+    general_p1.resize(m.nparam());
+    general_q2.resize(m.nq);
+    general_p2.resize(m.nparam());
+  }
+  for (Slot s : m.parameter_slots)
+    if (m.expressions[s].is_constant()) values[s] = S(m.expressions[s].constant_value());
+}
+
+namespace {
+template <class S>
+Vec3<S> vec3(const Workspace<S>& ws, const Slot3& s) {
+  return {ws.values[s[0]], ws.values[s[1]], ws.values[s[2]]};
+}
+}  // namespace
+
+template <class S>
+void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
+  model::evaluate_parameter_values(m, p, ws.parameters.data(), ws.values.data());
+
+  for (int b = 0; b < m.nbody(); ++b) {
+    const auto& I = m.bodies[b].inertia;
+    ws.mass[b] = ws.values[m.bodies[b].mass];
+    const S xx = ws.values[I[0]], yy = ws.values[I[1]], zz = ws.values[I[2]];
+    const S xy = ws.values[I[3]], yz = ws.values[I[4]], xz = ws.values[I[5]];
+    ws.inertia_body[b] << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  }
+  for (std::size_t j = 0; j < m.joints.size(); ++j) {
+    const Joint& J = m.joints[j];
+    if (J.axis[0] >= 0) ws.joint_axis[j] = unit_or_zero<S>(vec3(ws, J.axis));
+    if (J.axis2[0] >= 0) ws.joint_axis2[j] = unit_or_zero<S>(vec3(ws, J.axis2));
+    ws.parent_point[j] = vec3(ws, J.parent_point);
+    ws.child_point[j] = vec3(ws, J.child_point);
+    if (J.type == JointType::planar) {
+      // In-plane directions: e1 = unit(x − (x·n) n) (y if n ∥ x), e2 = n × e1.
+      const Vec3<S> n = ws.joint_axis[j];
+      Vec3<S> x = Vec3<S>::UnitX();
+      if (std::abs(value_of(n[0])) > 1 - 1e-9) x = Vec3<S>::UnitY();
+      ws.plane_e1[j] = unit_or_zero<S>(x - x.dot(n) * n);
+      ws.plane_e2[j] = n.cross(ws.plane_e1[j]);
+    }
+  }
+  ws.gravity = vec3(ws, m.gravity);
+}
+
+template struct Workspace<double>;
+template struct Workspace<Dual>;
+template void set_parameters<double>(const Model&, Workspace<double>&, const double*);
+template void set_parameters<Dual>(const Model&, Workspace<Dual>&, const Dual*);
+
+}  // namespace kanesens::dynamics

@@ -1,0 +1,147 @@
+// Expressions in scene files ("m2*L2^2/12", "F0*sin(w*t)", "-0.1*elbow.u"), parsed once at
+// model build into a small stack program and evaluated through any Scalar (double or Dual),
+// so derivatives with respect to parameters and states are exact.
+#pragma once
+#include <array>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "util/error.hpp"
+
+namespace kanesens::model::expr {
+
+// What a name in an expression refers to. Indices are into the arrays passed to evaluate().
+enum class VarKind : unsigned char { parameter, time, coordinate, speed };
+struct VarRef {
+  VarKind kind;
+  int index;
+};
+// The names an expression may use, and what each refers to.
+class NameTable {
+ public:
+  void add(const std::string& name, VarRef ref);
+  std::optional<VarRef> find(const std::string& name) const;  // hashed: scenes of 100 000 names
+  const std::vector<std::string>& names() const { return names_; }
+
+ private:
+  std::vector<std::string> names_;
+  std::vector<VarRef> refs_;
+  std::unordered_map<std::string, std::size_t> index_;  // name → first entry
+};
+
+enum class Op : unsigned char {
+  constant, variable, add, sub, mul, div, neg, pow, powi,
+  sin, cos, tan, asin, acos, atan, exp, log, sqrt, abs, atan2, min, max
+};
+struct Instruction {
+  Op op;
+  VarKind kind = VarKind::parameter;  // for variable
+  int index = 0;                      // variable index, or integer exponent for powi
+  double value = 0;                   // for constant
+};
+
+// The arrays an expression reads. Any may be null if the expression does not use that kind.
+template <class S>
+struct Inputs {
+  const S* parameters = nullptr;
+  const S* coordinates = nullptr;
+  const S* speeds = nullptr;
+  S time = S(0);
+};
+
+class Expression {
+ public:
+  static constexpr int kMaxStack = 32;
+
+  Expression() = default;
+  explicit Expression(double constant);
+
+  const std::string& text() const { return text_; }
+  // Where the expression was written (file:line:column) and its key path, for messages about
+  // its value found after compilation (e.g. a derived parameter that evaluates to inf).
+  const SourceLocation& where() const { return where_; }
+  const std::string& key() const { return key_; }
+  bool is_constant() const { return !uses_parameters_ && !uses_state_; }
+  bool uses_parameters() const { return uses_parameters_; }
+  // True if it reads t, a coordinate or a speed (must be evaluated every right-hand side).
+  bool uses_state() const { return uses_state_; }
+  // Value when is_constant().
+  double constant_value() const { return code_.empty() ? 0.0 : code_[0].value; }
+  // Whether it reads variable `index` of `kind` (e.g. coordinate 3).
+  bool uses(VarKind kind, int index) const;
+  // Whether it reads any variable of `kind`.
+  bool uses_any(VarKind kind) const;
+
+  template <class S>
+  S evaluate(const Inputs<S>& in) const;
+
+ private:
+  friend Expression compile(const std::string&, const NameTable&, const SourceLocation&,
+                            const std::string&);
+  std::string text_;
+  SourceLocation where_;
+  std::string key_;
+  std::vector<Instruction> code_;
+  bool uses_parameters_ = false;
+  bool uses_state_ = false;
+};
+
+// Parses `text`. Errors are InputError naming `where`/`key` and the position in the text.
+Expression compile(const std::string& text, const NameTable& names, const SourceLocation& where,
+                   const std::string& key);
+
+// ---- evaluation (header: inlined into the hot loops, no allocation) ----
+template <class S>
+S Expression::evaluate(const Inputs<S>& in) const {
+  using std::abs, std::atan2, std::cos, std::exp, std::log, std::sin, std::sqrt, std::tan,
+      std::asin, std::acos, std::atan, std::pow;
+  std::array<S, kMaxStack> st;
+  int sp = 0;
+  for (const Instruction& ins : code_) {
+    switch (ins.op) {
+      case Op::constant: st[sp++] = S(ins.value); break;
+      case Op::variable:
+        switch (ins.kind) {
+          case VarKind::parameter: st[sp++] = in.parameters[ins.index]; break;
+          case VarKind::time: st[sp++] = in.time; break;
+          case VarKind::coordinate: st[sp++] = in.coordinates[ins.index]; break;
+          case VarKind::speed: st[sp++] = in.speeds[ins.index]; break;
+        }
+        break;
+      case Op::add: --sp; st[sp - 1] = st[sp - 1] + st[sp]; break;
+      case Op::sub: --sp; st[sp - 1] = st[sp - 1] - st[sp]; break;
+      case Op::mul: --sp; st[sp - 1] = st[sp - 1] * st[sp]; break;
+      case Op::div: --sp; st[sp - 1] = st[sp - 1] / st[sp]; break;
+      case Op::pow: --sp; st[sp - 1] = pow(st[sp - 1], st[sp]); break;
+      case Op::atan2: --sp; st[sp - 1] = atan2(st[sp - 1], st[sp]); break;
+      case Op::min: --sp; st[sp - 1] = st[sp] < st[sp - 1] ? st[sp] : st[sp - 1]; break;
+      case Op::max: --sp; st[sp - 1] = st[sp - 1] < st[sp] ? st[sp] : st[sp - 1]; break;
+      case Op::neg: st[sp - 1] = -st[sp - 1]; break;
+      case Op::powi: {
+        // Integer powers by repeated multiplication: exact for negative bases and for Dual.
+        const S base = st[sp - 1];
+        int n = ins.index < 0 ? -ins.index : ins.index;
+        S r = S(1);
+        for (int i = 0; i < n; ++i) r = r * base;
+        st[sp - 1] = ins.index < 0 ? S(1) / r : r;
+        break;
+      }
+      case Op::sin: st[sp - 1] = sin(st[sp - 1]); break;
+      case Op::cos: st[sp - 1] = cos(st[sp - 1]); break;
+      case Op::tan: st[sp - 1] = tan(st[sp - 1]); break;
+      case Op::asin: st[sp - 1] = asin(st[sp - 1]); break;
+      case Op::acos: st[sp - 1] = acos(st[sp - 1]); break;
+      case Op::atan: st[sp - 1] = atan(st[sp - 1]); break;
+      case Op::exp: st[sp - 1] = exp(st[sp - 1]); break;
+      case Op::log: st[sp - 1] = log(st[sp - 1]); break;
+      case Op::sqrt: st[sp - 1] = sqrt(st[sp - 1]); break;
+      case Op::abs: st[sp - 1] = abs(st[sp - 1]); break;
+    }
+  }
+  return st[0];
+}
+
+}  // namespace kanesens::model::expr

@@ -1,0 +1,77 @@
+#include "sim/outputs.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "dynamics/equations.hpp"
+
+namespace kanesens::sim {
+
+using dynamics::DynamicsOptions;
+using dynamics::Workspace;
+using math::Dual;
+using model::Model;
+
+namespace {
+// The multiplier-form right-hand side on duals at (y, s).
+// False where u̇ (and λ) cannot be computed: the outputs that need them are then NaN.
+bool evaluate_dual(const Model& m, DualWorkspace& ws, const DynamicsOptions& options, double t, const double* y,
+                   const double* s) {
+  const int n = m.nstate();
+  std::vector<Dual> yd(static_cast<std::size_t>(n)), ydot(static_cast<std::size_t>(n));
+  for (int r = 0; r < n; ++r) yd[static_cast<std::size_t>(r)] = Dual(y[r], s[r]);
+  return dynamics::evaluate_rhs(m, ws, Dual(t), yd.data(), ydot.data(), options);
+}
+}  // namespace
+
+double energy(const Model& m, Workspace<double>& ws, double t, const double* y) {
+  const double* q = y;
+  const double* u = y + m.nq;
+  dynamics::evaluate_state_expressions(m, ws, t, q, u);
+  dynamics::compute_position(m, ws, q);
+  dynamics::compute_velocity(m, ws, u);
+  return dynamics::kinetic_energy(m, ws) + dynamics::potential_energy(m, ws, q);
+}
+
+void multipliers(const Model& m, Workspace<double>& ws, const DynamicsOptions& options, double t, const double* y,
+                 double* lambda) {
+  std::vector<double> ydot(static_cast<std::size_t>(m.nstate()));
+  // Where λ cannot be determined it is recorded as NaN, never as a silent 0.
+  const bool ok = dynamics::evaluate_rhs(m, ws, t, y, ydot.data(), options);
+  for (int r = 0; r < m.nconstraint_rows; ++r) lambda[r] = ok ? ws.multipliers[r] : std::nan("");
+}
+
+void multiplier_sensitivity(const Model& m, DualWorkspace& ws, const DynamicsOptions& options, double t,
+                            const double* y, const double* s, double* dlambda) {
+  const bool ok = evaluate_dual(m, ws, options, t, y, s);
+  for (int r = 0; r < m.nconstraint_rows; ++r) dlambda[r] = ok ? ws.multipliers[r].d : std::nan("");
+}
+
+void constraint_residuals(const Model& m, Workspace<double>& ws, const DynamicsOptions& options,
+                          const std::vector<int>& holonomic_rows, double t, const double* y, double& position,
+                          double& velocity) {
+  std::vector<double> ydot(static_cast<std::size_t>(m.nstate()));
+  if (!dynamics::evaluate_rhs(m, ws, t, y, ydot.data(), options)) {
+    position = velocity = std::nan("");
+    return;
+  }
+  position = 0;
+  velocity = 0;
+  for (int r : holonomic_rows) position = std::max(position, std::abs(ws.position_residual[r]));
+  for (int r = 0; r < m.nconstraint_rows; ++r) velocity = std::max(velocity, std::abs(ws.velocity_residual[r]));
+}
+
+void sensitivity_constraint_residuals(const Model& m, DualWorkspace& ws, const DynamicsOptions& options,
+                                      const std::vector<int>& holonomic_rows, double t, const double* y,
+                                      const double* s, double& position, double& velocity) {
+  if (!evaluate_dual(m, ws, options, t, y, s)) {
+    position = velocity = std::nan("");
+    return;
+  }
+  position = 0;
+  velocity = 0;
+  for (int r : holonomic_rows) position = std::max(position, std::abs(ws.position_residual[r].d));
+  for (int r = 0; r < m.nconstraint_rows; ++r) velocity = std::max(velocity, std::abs(ws.velocity_residual[r].d));
+}
+
+}  // namespace kanesens::sim

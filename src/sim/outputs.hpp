@@ -1,0 +1,34 @@
+// What a trajectory records besides the state, at a full state y = [q; u] (nstate) and time t:
+// the mechanical energy, the constraint multipliers and residuals, and their sensitivities along
+// a state sensitivity s (nstate). The constrained outputs use the multiplier form of the
+// equations (also for the embedding, which gives the same λ on the constraint manifold).
+#pragma once
+#include <vector>
+
+#include "dynamics/options.hpp"
+#include "dynamics/workspace.hpp"
+#include "math/dual.hpp"
+
+namespace kanesens::sim {
+
+using DualWorkspace = dynamics::Workspace<math::Dual>;
+
+// T + V with the workspace's parameters.
+double energy(const model::Model& m, dynamics::Workspace<double>& ws, double t, const double* y);
+// λ (m) of M u̇ = f + Aᵀλ.
+void multipliers(const model::Model& m, dynamics::Workspace<double>& ws, const dynamics::DynamicsOptions& options,
+                 double t, const double* y, double* lambda);
+// dλ/dε (m) along (s, the workspace's parameter tangent): one dual evaluation.
+void multiplier_sensitivity(const model::Model& m, DualWorkspace& ws, const dynamics::DynamicsOptions& options,
+                            double t, const double* y, const double* s, double* dlambda);
+// max |g| over the holonomic rows, max |A u + a0| over all rows.
+void constraint_residuals(const model::Model& m, dynamics::Workspace<double>& ws,
+                          const dynamics::DynamicsOptions& options, const std::vector<int>& holonomic_rows, double t,
+                          const double* y, double& position, double& velocity);
+// The same for the sensitivity: max |G s_q + ∂g/∂p|, max |d(A u + a0)/dε| (both should be 0).
+void sensitivity_constraint_residuals(const model::Model& m, DualWorkspace& ws,
+                                      const dynamics::DynamicsOptions& options,
+                                      const std::vector<int>& holonomic_rows, double t, const double* y,
+                                      const double* s, double& position, double& velocity);
+
+}  // namespace kanesens::sim

@@ -1,0 +1,288 @@
+#include "sim/solve/dop853.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sim/solve/dop853_tableau.hpp"
+#include "sim/solve/output_times.hpp"
+
+namespace kanesens::sim {
+
+namespace {
+
+constexpr int status_too_much_work = -1;  // CV_TOO_MUCH_WORK
+constexpr int status_step_too_small = -3;  // CV_ERR_FAILURE
+constexpr int status_rhs_failed = -8;      // CV_RHSFUNC_FAIL
+
+constexpr double safety = 0.9, min_factor = 0.2, max_factor = 6.0;
+constexpr double error_exponent = -1.0 / 8.0;
+
+struct CallbackError {
+  std::string what;
+};
+
+std::size_t stacked_size(const OdeProblem& problem, int ns) {
+  return static_cast<std::size_t>(problem.size()) * (1 + static_cast<std::size_t>(ns));
+}
+
+// The stacked state z = [y; s_0; ...; s_{ns−1}] (blocks of n) and everything one step needs,
+// allocated once per integration.
+class Stepper {
+ public:
+  Stepper(OdeProblem& problem, const SolverOptions& o, int ns)
+      : z(stacked_size(problem, ns)), z_new(z.size()), problem_(problem), n_(static_cast<std::size_t>(problem.size())),
+        ns_(ns), N_(z.size()), stage_(N_), atol_(N_), controlled_(N_), k_(dop853::stages + 1, std::vector<double>(N_)) {
+    for (std::size_t j = 0; j < n_; ++j) atol_[j] = o.atol_per_state.empty() ? o.atol : o.atol_per_state[j];
+    std::fill(controlled_.begin(), controlled_.begin() + static_cast<std::ptrdiff_t>(n_), 1);
+    std::vector<double> pbar = problem.sensitivity_scales();
+    for (int i = 0; i < ns; ++i) {
+      const double scale = pbar.empty() ? 1.0 : std::abs(pbar[static_cast<std::size_t>(i)]);
+      for (std::size_t j = 0; j < n_; ++j) {
+        const std::size_t r = n_ * (1 + static_cast<std::size_t>(i)) + j;
+        atol_[r] = o.sens_atol ? *o.sens_atol : atol_[j] / (scale > 0 ? scale : 1.0);
+        controlled_[r] = o.sens_error_control ? 1 : 0;
+      }
+    }
+    n_controlled_ = static_cast<double>(std::count(controlled_.begin(), controlled_.end(), 1));
+    rtol_ = o.rtol;
+    s_pointers_.resize(static_cast<std::size_t>(ns));
+  }
+
+  std::size_t size() const { return N_; }
+  std::size_t states() const { return n_; }
+
+  // dz = f(t, z): the ODE, then each sensitivity's right-hand side along it.
+  // A RecoverableError leaves dz NaN: the trial step is rejected and retried smaller.
+  void f(double t, const std::vector<double>& zz, std::vector<double>& dz, SolverStats& stats) {
+    try {
+      problem_.rhs(t, zz.data(), dz.data());
+      ++stats.rhs_evals;
+      for (int i = 0; i < ns_; ++i) {
+        const std::size_t o = n_ * (1 + static_cast<std::size_t>(i));
+        problem_.sensitivity_rhs(t, zz.data(), dz.data(), i, zz.data() + o, dz.data() + o);
+        ++stats.sens_rhs_evals;
+      }
+    } catch (const RecoverableError& e) {
+      std::fill(dz.begin(), dz.end(), std::numeric_limits<double>::quiet_NaN());
+      recoverable_message = e.what();
+    } catch (const std::exception& e) {
+      throw CallbackError{e.what()};
+    }
+  }
+
+  // RMS over the controlled components of v / scale, scale = atol + rtol |z| (initial step).
+  double norm(const std::vector<double>& v) const {
+    double s = 0;
+    for (std::size_t j = 0; j < N_; ++j)
+      if (controlled_[j]) {
+        const double x = v[j] / (atol_[j] + rtol_ * std::abs(z[j]));
+        s += x * x;
+      }
+    return std::sqrt(s / n_controlled_);
+  }
+
+  // Hairer's starting step (Solving ODEs I, §II.4): a step whose explicit Euler error would be
+  // about 0.01 of the tolerance, refined by a second derivative estimate. k_[0] = f(t, z).
+  double initial_step(double t, double h_max, SolverStats& stats) {
+    const double d0 = norm(z), d1 = norm(k_[0]);
+    double h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+    h0 = std::min(h0, h_max);
+    for (std::size_t j = 0; j < N_; ++j) stage_[j] = z[j] + h0 * k_[0][j];
+    f(t + h0, stage_, k_[1], stats);
+    for (std::size_t j = 0; j < N_; ++j) stage_[j] = k_[1][j] - k_[0][j];
+    const double d2 = norm(stage_) / h0;
+    const double d = std::max(d1, d2);
+    const double h1 = d <= 1e-15 ? std::max(1e-6, h0 * 1e-3) : std::pow(0.01 / d, 1.0 / 8.0);
+    return std::min({100 * h0, h1, h_max});
+  }
+
+  // One trial step of size h from (t, z) with k_[0] = f(t, z): z_new, k_[12] = f(t + h, z_new)
+  // and the scaled error (≤ 1: accept). Returns NaN if a stage is not finite.
+  double step(double t, double h, SolverStats& stats) {
+    for (int i = 1; i < dop853::stages; ++i) {
+      for (std::size_t j = 0; j < N_; ++j) {
+        double s = 0;
+        for (int l = 0; l < i; ++l) s += dop853::a[i][l] * k_[static_cast<std::size_t>(l)][j];
+        stage_[j] = z[j] + h * s;
+      }
+      f(t + dop853::c[i] * h, stage_, k_[static_cast<std::size_t>(i)], stats);
+    }
+    double e5n = 0, e3n = 0;
+    bool finite = true;
+    for (std::size_t j = 0; j < N_; ++j) {
+      double s = 0, e3 = 0, e5 = 0;
+      for (int l = 0; l < dop853::stages; ++l) {
+        const double kl = k_[static_cast<std::size_t>(l)][j];
+        s += dop853::b[l] * kl;
+        e3 += dop853::b[l] * kl;
+        e5 += dop853::e5[l] * kl;
+      }
+      // e3 = b − bhat3: bhat3 is nonzero in three places only.
+      e3 -= dop853::bhat3_0 * k_[0][j] + dop853::bhat3_8 * k_[8][j] + dop853::bhat3_11 * k_[11][j];
+      z_new[j] = z[j] + h * s;
+      finite = finite && std::isfinite(z_new[j]);
+      if (!controlled_[j]) continue;
+      const double scale = atol_[j] + rtol_ * std::max(std::abs(z[j]), std::abs(z_new[j]));
+      e5n += (e5 / scale) * (e5 / scale);
+      e3n += (e3 / scale) * (e3 / scale);
+    }
+    if (!finite) return std::numeric_limits<double>::quiet_NaN();
+    f(t + h, z_new, k_[dop853::stages], stats);
+    for (double v : k_[dop853::stages])
+      if (!std::isfinite(v)) return std::numeric_limits<double>::quiet_NaN();
+    const double denominator = e5n + 0.01 * e3n;
+    if (!(denominator > 0)) return 0.0;
+    return std::abs(h) * e5n / std::sqrt(denominator * n_controlled_);
+  }
+
+  // Accepts the trial step: z = z_new, and its f becomes the next first stage (FSAL).
+  void accept() {
+    z.swap(z_new);
+    k_[0].swap(k_[dop853::stages]);
+  }
+
+  // Projects the state block (problem.project) and re-evaluates the first stage if it moved.
+  // False if the projection failed.
+  bool project(double t, std::vector<double>& corr, SolverStats& stats) {
+    const int flag = problem_.project(t, z.data(), corr.data(), 0.0, nullptr);
+    ++stats.projections;
+    if (flag != 0) return false;
+    bool moved = false;
+    for (std::size_t j = 0; j < n_; ++j) {
+      moved = moved || corr[j] != 0;
+      z[j] += corr[j];
+    }
+    if (moved) f(t, z, k_[0], stats);
+    return true;
+  }
+
+  const double* const* sensitivities() {
+    for (int i = 0; i < ns_; ++i) s_pointers_[static_cast<std::size_t>(i)] = z.data() + n_ * (1 + static_cast<std::size_t>(i));
+    return ns_ ? s_pointers_.data() : nullptr;
+  }
+  std::vector<double>& first_stage() { return k_[0]; }
+
+ public:
+  std::vector<double> z, z_new;  // the current state and the trial step's (stacked)
+  std::string recoverable_message;  // the last RecoverableError of the right-hand side
+
+ private:
+  OdeProblem& problem_;
+  std::size_t n_;
+  int ns_;
+  std::size_t N_;
+  std::vector<double> stage_, atol_;
+  std::vector<unsigned char> controlled_;
+  double n_controlled_ = 1, rtol_ = 0;
+  std::vector<std::vector<double>> k_;
+  std::vector<const double*> s_pointers_;
+};
+
+std::string at_time(const char* what, double t) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%s at t = %.10g", what, t);
+  return buf;
+}
+
+}  // namespace
+
+IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& options,
+                                   std::span<const double> times, const RecordFn& record) {
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  options.validate(problem.size());
+  check_output_times(times, "dop853");
+  const int ns = problem.num_sensitivities();
+  if (ns > 0 && (!problem.has_sensitivity_rhs() || options.sens_rhs != SensitivityRhs::exact))
+    throw std::invalid_argument("solver.method = dop853 needs the exact sensitivity right-hand side "
+                                "(solver.sensitivity.rhs: exact)");
+
+  Stepper st(problem, options, ns);
+  const std::size_t n = st.states();
+  problem.initial_state(st.z.data());
+  for (int i = 0; i < ns; ++i) problem.initial_sensitivity(i, st.z.data() + n * (1 + static_cast<std::size_t>(i)));
+  std::vector<double> corr(n);
+  const bool projecting = problem.has_projection() && options.projection_frequency > 0;
+
+  IntegrationResult r;
+  r.t_fail = std::numeric_limits<double>::quiet_NaN();
+  auto finish = [&](int status, double t, const std::string& message) {
+    r.status = status;
+    r.t_fail = t;
+    r.message = message;
+    r.stats.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
+    return r;
+  };
+
+  record(0, times[0], st.z.data(), st.sensitivities());
+  r.outputs_recorded = 1;
+  double t = times[0];
+  const double h_max = options.max_step > 0 ? options.max_step : times.back() - times.front();
+  double h = 0;
+  bool rejected = false;  // the last trial step was rejected
+  try {
+    if (times.size() > 1) {
+      st.f(t, st.z, st.first_stage(), r.stats);
+      if (!st.recoverable_message.empty())  // nothing to retry at the initial state
+        return finish(status_rhs_failed, t, at_time("DOP853_RHSFUNC_FAIL", t) + ": " + st.recoverable_message);
+      h = options.initial_step > 0 ? std::min(options.initial_step, h_max) : st.initial_step(t, h_max, r.stats);
+    }
+    for (std::size_t k = 1; k < times.size(); ++k) {
+      const double t_out = times[k];
+      while (t < t_out) {
+        if (r.stats.steps >= options.max_steps)
+          return finish(status_too_much_work, t,
+                        at_time("DOP853_TOO_MUCH_WORK", t) + ": solver.max_steps = " +
+                            std::to_string(options.max_steps) + " steps taken before reaching the output time");
+        // Land on t_out exactly; remember the step the error control wanted.
+        const double h_wanted = h;
+        const bool to_output = t + h >= t_out - 1e-13 * std::abs(t_out);
+        const double h_try = to_output ? t_out - t : h;
+        const double err = st.step(t, h_try, r.stats);
+        if (!(err <= 1.0)) {  // rejected: error too large, or NaN (a non-finite stage)
+          ++r.stats.error_test_fails;
+          if (std::isnan(err)) ++r.stats.callback_recoverable;
+          const double factor = std::isnan(err) ? 0.25 : std::max(min_factor, safety * std::pow(err, error_exponent));
+          h = h_try * factor;
+          rejected = true;
+          if (h < 16 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t)))
+            return finish(status_step_too_small, t,
+                          at_time("DOP853_ERR_FAILURE", t) + ": the step size fell below round-off of t (" +
+                              (!std::isnan(err)                  ? std::string("repeated error-test failures")
+                               : st.recoverable_message.empty() ? std::string("the right-hand side is not finite")
+                                                                : st.recoverable_message) +
+                              ")");
+          continue;
+        }
+        double factor = err == 0 ? max_factor : std::min(max_factor, std::max(min_factor, safety * std::pow(err, error_exponent)));
+        if (rejected) factor = std::min(factor, 1.0);
+        rejected = false;
+        st.accept();
+        t = to_output ? t_out : t + h_try;
+        ++r.stats.steps;
+        h = h_try * factor;
+        if (to_output) h = std::max(h, std::min(h_wanted, h_max));
+        h = std::min(h, h_max);
+        if (projecting && r.stats.steps % options.projection_frequency == 0 && !st.project(t, corr, r.stats))
+          return finish(status_step_too_small, t, at_time("DOP853_PROJECTION_FAILED", t) +
+                                                      ": the projection onto the constraints did not converge");
+      }
+      record(static_cast<int>(k), t_out, st.z.data(), st.sensitivities());
+      ++r.outputs_recorded;
+    }
+  } catch (const CallbackError& e) {
+    return finish(status_rhs_failed, t, at_time("DOP853_RHSFUNC_FAIL", t) + ": rhs threw: " + e.what);
+  }
+  r.status = 1;
+  r.stats.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
+  return r;
+}
+
+}  // namespace kanesens::sim

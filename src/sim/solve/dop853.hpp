@@ -1,0 +1,47 @@
+// The explicit Runge–Kutta method of Dormand and Prince of order 8 with adaptive steps (DOP853;
+// Hairer, Nørsett & Wanner, Solving ODEs I, §II.10), on the same OdeProblem as CVODES:
+// `solver.method: dop853`. For non-stiff problems at tight tolerances, where CVODES's Adams
+// method runs out of accuracy (its global error on the four-bar stays ~1e-9 at rtol 1e-14,
+// docs/peers.md) and BDF takes many small steps: DOP853's 12 stages buy an 8th-order step.
+// No Jacobian, so a stiff problem makes it take tiny steps (docs/stability.md); use bdf there.
+//
+// Error control: the local error estimate of Hairer's dop853.f (its 5th- and 3rd-order
+// embedded solutions), in the RMS norm over the controlled components with scale
+// atol_i + rtol·max(|y_i|, |y_new_i|) (atol_per_state when given); the step factor is
+// 0.9·err^(−1/8), limited to [0.2, 6] (≤ 1 right after a rejection). Initial step: Hairer's
+// estimate (ibid. §II.4) unless solver.initial_step is set; solver.max_step bounds it.
+//
+// Outputs: steps are shortened to land on every output time exactly (no dense output), so
+// many closely spaced outputs cost extra steps; the step size before the shortening is kept.
+//
+// Sensitivities (exact sensitivity_rhs only): integrated with the states by the same stages
+// (internal differentiation, as integrate_rk4), so they are the exact derivatives of the
+// discrete solution. With solver.sensitivity.error_control they take part in the error test
+// with atol = sensitivity.atol, or atol_i/|p̄_j| as CVODES's CVodeSensEEtolerances.
+//
+// Constraints: with a problem that has_projection() (stabilization: projection), the state is
+// projected after every accepted step (every projection_frequency steps), and the first stage
+// of the next step re-evaluated; the sensitivities are not projected during the integration
+// (simulate() projects the recorded ones, as with CVODES).
+//
+// Result and statuses mirror the CVODES integrator (solve/integrator.hpp), with the CVODES
+// flag numbers a study output already knows: −1 max_steps reached (CV_TOO_MUCH_WORK), −3 the
+// step size fell below round-off of t after repeated error-test failures or non-finite
+// stages (CV_ERR_FAILURE), −8 rhs or sensitivity_rhs threw (CV_RHSFUNC_FAIL). Non-finite
+// stages reject the step (×0.25), as CVODES treats a recoverable callback failure.
+#pragma once
+#include <span>
+
+#include "sim/solve/integrator.hpp"
+#include "sim/solve/ode_problem.hpp"
+#include "sim/solve/solver_options.hpp"
+
+namespace kanesens::sim {
+
+// Throws std::invalid_argument for bad output times, or sensitivities without an exact
+// sensitivity_rhs. Stats: steps, rhs_evals, sens_rhs_evals, error_test_fails, projections,
+// callback_recoverable (rejected non-finite steps), wall_seconds.
+IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& options,
+                                   std::span<const double> output_times, const RecordFn& record);
+
+}  // namespace kanesens::sim

@@ -1,0 +1,550 @@
+#include "sim/solve/integrator.hpp"
+
+#include "sim/solve/dop853.hpp"
+#include "sim/solve/output_times.hpp"
+
+#include <cvodes/cvodes.h>
+#include <cvodes/cvodes_ls.h>
+#include <cvodes/cvodes_proj.h>
+#include <sundials/sundials_config.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sim/solve/sundials_handles.hpp"
+
+namespace kanesens::sim {
+
+namespace {
+
+std::string format_time(double t) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", t);
+  return buf;
+}
+
+// What the trampolines share with the integrator (CVodeSetUserData). Lives inside
+// Integrator::Impl, whose address is stable.
+struct CallbackData {
+  OdeProblem* problem = nullptr;
+  int n = 0;
+  long recoverable = 0;          // callbacks that returned +1
+  std::string callback_message;  // last callback failure (exception or non-finite output)
+  std::string solver_message;    // last error reported by CVODES's error handler
+
+  void reset(OdeProblem* p, int size) {
+    problem = p;
+    n = size;
+    recoverable = 0;
+    callback_message.clear();
+    solver_message.clear();
+  }
+
+  // An exception escaped a callback: keep its message, tell CVODES to stop (−1).
+  int fail(const char* where, double t, const char* what) noexcept {
+    try {
+      callback_message = std::string(where) + " threw at t = " + format_time(t) + ": " + what;
+    } catch (...) {  // out of memory: the status still says what happened
+    }
+    return -1;
+  }
+
+  // The callback could not evaluate at this trial state (RecoverableError): +1, CVODES retries
+  // with a smaller step; the message is reported if it gives up.
+  int recover(const char* where, double t, const char* what) noexcept {
+    ++recoverable;
+    try {
+      callback_message = std::string(where) + " failed at t = " + format_time(t) + ": " + what;
+    } catch (...) {
+    }
+    return 1;
+  }
+
+  // Scan a callback's output; a NaN or Inf makes the step fail recoverably (+1), so CVODES
+  // retries with a smaller step; if that keeps happening it gives up with a flag < 0.
+  int check_finite(const char* where, double t, const double* v, long count) noexcept {
+    for (long i = 0; i < count; ++i) {
+      if (!std::isfinite(v[i])) {
+        ++recoverable;
+        try {
+          char buf[160];
+          std::snprintf(buf, sizeof buf,
+                        "%s returned a non-finite value (%g at index %ld) at t = %.10g", where,
+                        v[i], i, t);
+          callback_message = buf;
+        } catch (...) {
+        }
+        return 1;
+      }
+    }
+    return 0;
+  }
+};
+
+CallbackData& data_of(void* user_data) {
+  return *static_cast<CallbackData*>(user_data);
+}
+
+// --- nothrow trampolines: exceptions never cross into C ---
+
+int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    double* f = N_VGetArrayPointer(ydot);
+    cb.problem->rhs(t, N_VGetArrayPointer(y), f);
+    return cb.check_finite("rhs", t, f, cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("rhs", t, e.what());
+  } catch (const std::exception& e) {
+    return cb.fail("rhs", t, e.what());
+  } catch (...) {
+    return cb.fail("rhs", t, "unknown exception");
+  }
+}
+
+int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user_data, N_Vector,
+                   N_Vector, N_Vector) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    // SUNDenseMatrix storage is column-major and contiguous (leading dimension n).
+    double* jac = SUNDenseMatrix_Data(J);
+    cb.problem->jacobian(t, N_VGetArrayPointer(y), N_VGetArrayPointer(fy), jac);
+    return cb.check_finite("jacobian", t, jac, static_cast<long>(cb.n) * cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("jacobian", t, e.what());
+  } catch (const std::exception& e) {
+    return cb.fail("jacobian", t, e.what());
+  } catch (...) {
+    return cb.fail("jacobian", t, "unknown exception");
+  }
+}
+
+int sens_rhs_trampoline(int /*Ns*/, sunrealtype t, N_Vector y, N_Vector ydot, int iS, N_Vector yS,
+                        N_Vector ySdot, void* user_data, N_Vector, N_Vector) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    double* sdot = N_VGetArrayPointer(ySdot);
+    cb.problem->sensitivity_rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), iS,
+                                N_VGetArrayPointer(yS), sdot);
+    return cb.check_finite("sensitivity_rhs", t, sdot, cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("sensitivity_rhs", t, e.what());
+  } catch (const std::exception& e) {
+    return cb.fail("sensitivity_rhs", t, e.what());
+  } catch (...) {
+    return cb.fail("sensitivity_rhs", t, "unknown exception");
+  }
+}
+
+int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
+                    void* user_data) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    double* c = N_VGetArrayPointer(corr);
+    const int flag = cb.problem->project(t, N_VGetArrayPointer(ycur), c, eps_proj,
+                                         err != nullptr ? N_VGetArrayPointer(err) : nullptr);
+    if (flag != 0) {
+      try {
+        cb.callback_message =
+            "project returned " + std::to_string(flag) + " at t = " + format_time(t);
+      } catch (...) {
+      }
+      if (flag > 0) ++cb.recoverable;
+      return flag;
+    }
+    return cb.check_finite("project", t, c, cb.n);
+  } catch (const std::exception& e) {
+    return cb.fail("project", t, e.what());
+  } catch (...) {
+    return cb.fail("project", t, "unknown exception");
+  }
+}
+
+// CVODES reports errors through this instead of printing them to stderr (thousands of failing
+// samples would flood the terminal). Warnings (error_code > 0, e.g. "t + h = t") are dropped.
+void error_handler(int error_code, const char* /*module*/, const char* function, char* msg,
+                   void* user_data) noexcept {
+  if (error_code >= 0) return;
+  try {
+    data_of(user_data).solver_message = std::string(function) + ": " + msg;
+  } catch (...) {
+  }
+}
+
+int sensitivity_method_flag(SensitivityMethod m) {
+  switch (m) {
+    case SensitivityMethod::simultaneous:
+      return CV_SIMULTANEOUS;
+    case SensitivityMethod::staggered:
+      return CV_STAGGERED;
+    case SensitivityMethod::staggered1:
+      return CV_STAGGERED1;
+  }
+  return CV_STAGGERED;
+}
+
+[[noreturn]] void invalid(const std::string& what) {
+  throw std::invalid_argument(what);
+}
+
+}  // namespace
+
+struct Integrator::Impl {
+  explicit Impl(SolverOptions o) : options(std::move(o)) {}
+
+  SolverOptions options;
+  CallbackData cb;
+
+  // Shape of the CVODES objects below (built = false: none yet).
+  bool built = false;
+  int n = 0;
+  int ns = 0;
+  bool projection = false;
+
+  // Declared in creation order; release() frees them in reverse (cvode_mem first).
+  ContextPtr ctx;
+  NVectorPtr y;
+  NVectorPtr atol_vector;
+  MatrixPtr A;
+  LinearSolverPtr LS;
+  NonlinearSolverPtr NLS;
+  NVectorArray yS;
+  NonlinearSolverPtr NLS_sens;
+  CvodeMemPtr mem;
+
+  std::vector<const double*> s_pointers;  // ns pointers into yS, for record()
+  std::vector<double> pbar;               // sensitivity scales of the current problem
+  std::vector<int> plist;                 // DQ parameter list of the current problem
+  double* dq_p = nullptr;                 // DQ parameter array of the current problem
+  std::vector<double> dq_p_saved;         // its values at the start of the run
+
+  void release() noexcept {
+    mem.reset();
+    NLS_sens.reset();
+    yS = NVectorArray();
+    NLS.reset();
+    LS.reset();
+    A.reset();
+    atol_vector.reset();
+    y.reset();
+    ctx.reset();
+    built = false;
+  }
+
+  void check_problem(OdeProblem& problem, std::span<const double> times) const;
+  void build(int n_states, int n_sens, bool with_projection, double t0);
+  void reinit(OdeProblem& problem, double t0, double t_end);
+  void restore_dq_parameters() noexcept {
+    for (std::size_t i = 0; i < dq_p_saved.size(); ++i) dq_p[plist[i]] = dq_p_saved[i];
+  }
+  SolverStats collect_stats() const;
+};
+
+void Integrator::Impl::check_problem(OdeProblem& problem, std::span<const double> times) const {
+  const int n_states = problem.size();
+  if (n_states <= 0)
+    invalid("integrate: problem size must be > 0, got " + std::to_string(n_states));
+  options.validate(n_states);
+  const int n_sens = problem.num_sensitivities();
+  if (n_sens < 0) invalid("integrate: num_sensitivities() < 0");
+
+  check_output_times(times, "integrate");
+
+  if (options.iteration == Iteration::newton && options.jacobian == JacobianKind::exact &&
+      !problem.has_jacobian()) {
+    invalid("solver.jacobian = exact, but the problem has no exact Jacobian (use dq)");
+  }
+  if (problem.has_projection() && options.method != Method::bdf) {
+    invalid("solver.method = adams: CVODES supports projection only with bdf");
+  }
+  if (n_sens == 0) return;
+  if (options.sens_rhs == SensitivityRhs::exact && !problem.has_sensitivity_rhs()) {
+    invalid(
+        "solver.sensitivity.rhs = exact, but the problem has no exact sensitivity RHS (use dq)");
+  }
+  const std::vector<double> scales = problem.sensitivity_scales();
+  if (!scales.empty() && static_cast<int>(scales.size()) != n_sens) {
+    invalid("integrate: sensitivity_scales() has " + std::to_string(scales.size()) +
+            " entries, expected num_sensitivities() = " + std::to_string(n_sens));
+  }
+  for (double s : scales) {
+    if (!(std::isfinite(s) && s != 0))
+      invalid("integrate: sensitivity scales must be finite and != 0");
+  }
+  if (options.sens_rhs == SensitivityRhs::dq) {
+    if (problem.dq_parameters() == nullptr) {
+      invalid("solver.sensitivity.rhs = dq, but the problem has no dq_parameters() array");
+    }
+    const std::vector<int> list = problem.dq_parameter_list();
+    if (static_cast<int>(list.size()) != n_sens) {
+      invalid("integrate: dq_parameter_list() has " + std::to_string(list.size()) +
+              " entries, expected num_sensitivities() = " + std::to_string(n_sens));
+    }
+    for (int j : list) {
+      if (j < 0) invalid("integrate: dq_parameter_list() entries must be >= 0");
+    }
+  }
+}
+
+void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, double t0) {
+  release();
+  const SolverOptions& o = options;
+  ctx = make_context();
+  y = make_serial_vector(n_states, ctx.get());
+  N_VConst(0.0, y.get());
+
+  // create → init
+  mem = make_cvode(o.method == Method::bdf ? CV_BDF : CV_ADAMS, ctx.get());
+  check_flag(CVodeInit(mem.get(), rhs_trampoline, t0, y.get()), "CVodeInit");
+  check_flag(CVodeSetUserData(mem.get(), &cb), "CVodeSetUserData");
+  check_flag(CVodeSetErrHandlerFn(mem.get(), error_handler, &cb), "CVodeSetErrHandlerFn");
+
+  // → tolerances
+  if (o.atol_per_state.empty()) {
+    check_flag(CVodeSStolerances(mem.get(), o.rtol, o.atol), "CVodeSStolerances");
+  } else {
+    atol_vector = make_serial_vector(n_states, ctx.get());
+    std::copy(o.atol_per_state.begin(), o.atol_per_state.end(),
+              N_VGetArrayPointer(atol_vector.get()));
+    check_flag(CVodeSVtolerances(mem.get(), o.rtol, atol_vector.get()), "CVodeSVtolerances");
+  }
+
+  // → linear solver (Newton) or fixed-point nonlinear solver (functional iteration)
+  if (o.iteration == Iteration::newton) {
+    A = make_dense_matrix(n_states, ctx.get());
+    LS = make_dense_solver(y.get(), A.get(), ctx.get());
+    check_ls_flag(CVodeSetLinearSolver(mem.get(), LS.get(), A.get()), "CVodeSetLinearSolver");
+    if (o.jacobian == JacobianKind::exact) {
+      check_ls_flag(CVodeSetJacFn(mem.get(), jac_trampoline), "CVodeSetJacFn");
+    }
+  } else {
+    NLS.reset(SUNNonlinSol_FixedPoint(y.get(), 0, ctx.get()));
+    check_ptr(NLS.get(), "SUNNonlinSol_FixedPoint");
+    check_flag(CVodeSetNonlinearSolver(mem.get(), NLS.get()), "CVodeSetNonlinearSolver");
+  }
+
+  // Optional inputs. max_steps is set before every output (a total budget, see SolverOptions).
+  if (o.max_order > 0) check_flag(CVodeSetMaxOrd(mem.get(), o.max_order), "CVodeSetMaxOrd");
+  if (o.initial_step > 0)
+    check_flag(CVodeSetInitStep(mem.get(), o.initial_step), "CVodeSetInitStep");
+  if (o.max_step > 0) check_flag(CVodeSetMaxStep(mem.get(), o.max_step), "CVodeSetMaxStep");
+
+  // Projection (CVODES ≥ 5.3, BDF only). Its interplay with forward sensitivities is not
+  // documented by CVODES 6.4 and must be tested with the constrained models (docs/solve.md).
+  if (with_projection) {
+    check_flag(CVodeSetProjFn(mem.get(), proj_trampoline), "CVodeSetProjFn");
+    check_flag(CVodeSetProjErrEst(mem.get(), o.projection_error_estimate ? SUNTRUE : SUNFALSE),
+               "CVodeSetProjErrEst");
+    check_flag(CVodeSetProjFrequency(mem.get(), o.projection_frequency), "CVodeSetProjFrequency");
+  }
+
+  // → SensInit1 → sensitivity tolerances → SetSensParams (in reinit: per problem) → SensErrCon
+  if (n_sens > 0) {
+    yS = NVectorArray(n_sens, y.get());
+    for (int i = 0; i < n_sens; ++i) N_VConst(0.0, yS[i]);
+    check_flag(CVodeSensInit1(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
+                              o.sens_rhs == SensitivityRhs::exact ? sens_rhs_trampoline : nullptr,
+                              yS.get()),
+               "CVodeSensInit1");
+    if (o.sens_atol) {
+      std::vector<double> abstol_s(static_cast<std::size_t>(n_sens), *o.sens_atol);  // copied
+      check_flag(CVodeSensSStolerances(mem.get(), o.rtol, abstol_s.data()),
+                 "CVodeSensSStolerances");
+    } else {
+      check_flag(CVodeSensEEtolerances(mem.get()), "CVodeSensEEtolerances");
+    }
+    check_flag(CVodeSetSensErrCon(mem.get(), o.sens_error_control ? SUNTRUE : SUNFALSE),
+               "CVodeSetSensErrCon");
+    if (o.iteration == Iteration::functional) {
+      // CVodeSensInit1 attaches Newton solvers for the sensitivities; functional iteration
+      // needs fixed-point ones of the matching kind (cvsAdvDiff_FSA_non.c).
+      switch (o.sensitivity_method) {
+        case SensitivityMethod::simultaneous:
+          NLS_sens.reset(SUNNonlinSol_FixedPointSens(n_sens + 1, y.get(), 0, ctx.get()));
+          check_ptr(NLS_sens.get(), "SUNNonlinSol_FixedPointSens");
+          check_flag(CVodeSetNonlinearSolverSensSim(mem.get(), NLS_sens.get()),
+                     "CVodeSetNonlinearSolverSensSim");
+          break;
+        case SensitivityMethod::staggered:
+          NLS_sens.reset(SUNNonlinSol_FixedPointSens(n_sens, y.get(), 0, ctx.get()));
+          check_ptr(NLS_sens.get(), "SUNNonlinSol_FixedPointSens");
+          check_flag(CVodeSetNonlinearSolverSensStg(mem.get(), NLS_sens.get()),
+                     "CVodeSetNonlinearSolverSensStg");
+          break;
+        case SensitivityMethod::staggered1:
+          NLS_sens.reset(SUNNonlinSol_FixedPoint(y.get(), 0, ctx.get()));
+          check_ptr(NLS_sens.get(), "SUNNonlinSol_FixedPoint");
+          check_flag(CVodeSetNonlinearSolverSensStg1(mem.get(), NLS_sens.get()),
+                     "CVodeSetNonlinearSolverSensStg1");
+          break;
+      }
+    }
+  }
+
+  s_pointers.assign(static_cast<std::size_t>(n_sens), nullptr);
+  for (int i = 0; i < n_sens; ++i) s_pointers[static_cast<std::size_t>(i)] = yS.data(i);
+  n = n_states;
+  ns = n_sens;
+  projection = with_projection;
+  built = true;
+}
+
+void Integrator::Impl::reinit(OdeProblem& problem, double t0, double t_end) {
+  cb.reset(&problem, n);
+  problem.initial_state(N_VGetArrayPointer(y.get()));
+  check_flag(CVodeReInit(mem.get(), t0, y.get()), "CVodeReInit");
+  dq_p = nullptr;
+  dq_p_saved.clear();
+  if (ns > 0) {
+    for (int i = 0; i < ns; ++i) problem.initial_sensitivity(i, yS.data(i));
+    check_flag(
+        CVodeSensReInit(mem.get(), sensitivity_method_flag(options.sensitivity_method), yS.get()),
+        "CVodeSensReInit");
+    pbar = problem.sensitivity_scales();
+    double* p = nullptr;
+    plist.clear();
+    if (options.sens_rhs == SensitivityRhs::dq) {
+      p = problem.dq_parameters();
+      plist = problem.dq_parameter_list();
+      // CVODES perturbs p[plist[i]] in place; keep the values to restore after the run.
+      dq_p = p;
+      dq_p_saved.resize(plist.size());
+      for (std::size_t i = 0; i < plist.size(); ++i) dq_p_saved[i] = p[plist[i]];
+    }
+    check_flag(CVodeSetSensParams(mem.get(), p, pbar.empty() ? nullptr : pbar.data(),
+                                  plist.empty() ? nullptr : plist.data()),
+               "CVodeSetSensParams");
+  }
+  // Never step past the last output (a model's forcing may be defined only up to t_end).
+  check_flag(CVodeSetStopTime(mem.get(), t_end), "CVodeSetStopTime");
+}
+
+SolverStats Integrator::Impl::collect_stats() const {
+  SolverStats s;
+  void* m = mem.get();
+  check_flag(CVodeGetNumSteps(m, &s.steps), "CVodeGetNumSteps");
+  check_flag(CVodeGetNumRhsEvals(m, &s.rhs_evals), "CVodeGetNumRhsEvals");
+  check_flag(CVodeGetNumNonlinSolvIters(m, &s.nonlin_iters), "CVodeGetNumNonlinSolvIters");
+  check_flag(CVodeGetNumNonlinSolvConvFails(m, &s.nonlin_conv_fails),
+             "CVodeGetNumNonlinSolvConvFails");
+  check_flag(CVodeGetNumErrTestFails(m, &s.error_test_fails), "CVodeGetNumErrTestFails");
+  if (options.iteration == Iteration::newton) {
+    check_ls_flag(CVodeGetNumJacEvals(m, &s.jac_evals), "CVodeGetNumJacEvals");
+    check_ls_flag(CVodeGetNumLinRhsEvals(m, &s.lin_rhs_evals), "CVodeGetNumLinRhsEvals");
+  }
+  if (ns > 0) {
+    long setups = 0;
+    check_flag(CVodeGetSensStats(m, &s.sens_rhs_evals, &s.rhs_evals_for_sens,
+                                 &s.sens_error_test_fails, &setups),
+               "CVodeGetSensStats");
+    if (options.sensitivity_method != SensitivityMethod::simultaneous) {
+      check_flag(CVodeGetSensNumNonlinSolvIters(m, &s.sens_nonlin_iters),
+                 "CVodeGetSensNumNonlinSolvIters");
+    }
+  }
+  if (projection) check_flag(CVodeGetNumProjEvals(m, &s.projections), "CVodeGetNumProjEvals");
+  s.callback_recoverable = cb.recoverable;
+  return s;
+}
+
+Integrator::Integrator(SolverOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {
+  impl_->options.validate();
+}
+Integrator::~Integrator() = default;
+Integrator::Integrator(Integrator&&) noexcept = default;
+Integrator& Integrator::operator=(Integrator&&) noexcept = default;
+
+const SolverOptions& Integrator::options() const {
+  return impl_->options;
+}
+
+IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const double> times,
+                                        const RecordFn& record) {
+  // The explicit method has no CVODES objects; it shares the options, result and record().
+  if (impl_->options.method == Method::dop853) return integrate_dop853(problem, impl_->options, times, record);
+  const auto start = std::chrono::steady_clock::now();
+  Impl& im = *impl_;
+  im.check_problem(problem, times);
+
+  const int n_states = problem.size();
+  const int n_sens = problem.num_sensitivities();
+  const bool with_projection = problem.has_projection();
+  if (!im.built || im.n != n_states || im.ns != n_sens || im.projection != with_projection) {
+    im.build(n_states, n_sens, with_projection, times.front());
+  }
+  im.reinit(problem, times.front(), times.back());
+
+  // Restore CVODES's DQ perturbations of the problem's parameters however we leave.
+  struct RestoreGuard {
+    Impl& im;
+    ~RestoreGuard() { im.restore_dq_parameters(); }
+  } guard{im};
+
+  IntegrationResult result;
+  void* m = im.mem.get();
+  double* y = N_VGetArrayPointer(im.y.get());
+  const double* const* s = n_sens > 0 ? im.s_pointers.data() : nullptr;
+
+  record(0, times[0], y, s);
+  result.outputs_recorded = 1;
+  result.status = 1;
+  result.t_fail = std::numeric_limits<double>::quiet_NaN();
+
+  for (std::size_t k = 1; k < times.size(); ++k) {
+    const double tout = times[k];
+    long steps = 0;
+    check_flag(CVodeGetNumSteps(m, &steps), "CVodeGetNumSteps");
+    const long remaining = im.options.max_steps - steps;
+    double t_reached = times.front();
+    if (remaining <= 0) {
+      check_flag(CVodeGetCurrentTime(m, &t_reached), "CVodeGetCurrentTime");
+      if (t_reached < tout) {  // another step would be needed
+        result.status = CV_TOO_MUCH_WORK;
+        result.t_fail = t_reached;
+        result.message = "CV_TOO_MUCH_WORK at t = " + format_time(t_reached) +
+                         ": max_steps = " + std::to_string(im.options.max_steps) +
+                         " steps taken before reaching t = " + format_time(tout);
+        break;
+      }
+    }
+    check_flag(CVodeSetMaxNumSteps(m, remaining > 0 ? remaining : 1), "CVodeSetMaxNumSteps");
+    const int flag = CVode(m, tout, im.y.get(), &t_reached, CV_NORMAL);
+    if (flag < 0) {
+      result.status = flag;
+      result.t_fail = t_reached;
+      result.message = cvode_flag_name(flag) + " at t = " + format_time(t_reached);
+      if (!im.cb.solver_message.empty()) result.message += ": " + im.cb.solver_message;
+      if (!im.cb.callback_message.empty()) result.message += "; " + im.cb.callback_message;
+      break;
+    }
+    if (n_sens > 0) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
+    record(static_cast<int>(k), tout, y, s);
+    ++result.outputs_recorded;
+  }
+
+  result.stats = im.collect_stats();
+  result.stats.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+IntegrationResult integrate(OdeProblem& problem, const SolverOptions& options,
+                            std::span<const double> output_times, const RecordFn& record) {
+  Integrator integrator(options);
+  return integrator.integrate(problem, output_times, record);
+}
+
+std::string sundials_version() {
+  return SUNDIALS_VERSION;
+}
+
+}  // namespace kanesens::sim

@@ -1,0 +1,93 @@
+// The abstract initial-value problem the CVODES integrator solves:
+//
+//     ẏ = f(t, y; p),   y(t0) = y0(p),   y ∈ ℝⁿ,
+//
+// with optional forward sensitivities s_i = ∂y/∂p_i (i = 0..ns-1) that obey
+//
+//     ṡ_i = J s_i + ∂f/∂p_i,   s_i(t0) = ∂y0/∂p_i,   J = ∂f/∂y (n×n).
+//
+// A "parameter" p_i may be a parameter of f or an initial condition (then ∂f/∂p_i = 0 and
+// s_i(t0) is a unit vector). The integrator knows nothing about multibody systems; the Kane model
+// implements this interface (one OdeProblem object per sample, or one re-pointed per sample).
+//
+// Hot path: rhs, jacobian, sensitivity_rhs and project are called with raw pointers into
+// CVODES's own vectors and must neither allocate nor keep the pointers. They may throw: the
+// integrator's nothrow trampolines catch the exception, keep its message, and make CVODES stop
+// (return −1). A non-finite value written into ydot, J or sdot is caught by the trampoline too
+// and reported to CVODES as a recoverable failure (+1: it retries with a smaller step), and so
+// is a RecoverableError: the state of a trial step where the equations cannot be solved (a
+// singular mass matrix), which a smaller step may avoid.
+#pragma once
+#include <stdexcept>
+#include <vector>
+
+namespace kanesens::sim {
+
+// Thrown by rhs, jacobian or sensitivity_rhs when f cannot be evaluated at this (t, y) but may
+// be at a nearby one: the integrator retries the step with a smaller one (CVODES's recoverable
+// +1; DOP853 likewise), and reports this message if that does not help.
+class RecoverableError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class OdeProblem {
+ public:
+  virtual ~OdeProblem() = default;
+
+  // n, the number of states. Constant for the lifetime of the object.
+  virtual int size() const = 0;
+
+  // y0 (n): the initial state at t0 = output_times[0].
+  virtual void initial_state(double* y0) const = 0;
+
+  // ydot (n) = f(t, y). y (n) is read-only.
+  virtual void rhs(double t, const double* y, double* ydot) = 0;
+
+  // Exact Jacobian J = ∂f/∂y, column-major n×n: J[i + j*n] = ∂ydot_i/∂y_j. ydot = f(t, y) is
+  // the current value (free to use). All n² entries must be written (CVODES zeroes J before the
+  // call, but do not rely on it). Only called when has_jacobian() and the options ask for it.
+  virtual bool has_jacobian() const { return false; }
+  virtual void jacobian(double /*t*/, const double* /*y*/, const double* /*ydot*/, double* /*J*/) {}
+
+  // ns, the number of sensitivity parameters. 0 = no sensitivities are computed.
+  virtual int num_sensitivities() const { return 0; }
+  // s0 (n) = ∂y0/∂p_i, 0 ≤ i < ns.
+  virtual void initial_sensitivity(int /*i*/, double* s0) const { (void)s0; }
+
+  // Exact sensitivity right-hand side sdot (n) = J s + ∂f/∂p_i for the sensitivity s (n) of
+  // parameter i. Only called when has_sensitivity_rhs() and the options ask for it.
+  virtual bool has_sensitivity_rhs() const { return false; }
+  virtual void sensitivity_rhs(double /*t*/, const double* /*y*/, const double* /*ydot*/, int /*i*/,
+                               const double* /*s*/, double* /*sdot*/) {}
+
+  // Scale of each sensitivity parameter, |p̄_i| > 0 (ns entries; empty = all 1). CVODES uses
+  // it (CVodeSetSensParams pbar) for the default sensitivity tolerances, atol_S = atol/|p̄_i|
+  // (CVodeSensEEtolerances), and for the size of its difference-quotient increments. Usually
+  // the nominal value of the parameter, or 1 when that is 0 or the parameter is an initial
+  // condition.
+  virtual std::vector<double> sensitivity_scales() const { return {}; }
+
+  // For CVODES's internal difference-quotient sensitivities (options.sens_rhs = dq): an array
+  // that the RHS reads its parameter values from. CVODES perturbs dq_parameters()[plist[i]] in
+  // place between RHS calls (the integrator restores the values after every run, including a
+  // failed one). plist = dq_parameter_list() has ns entries; entries for initial-condition
+  // sensitivities point at dummies that the RHS ignores (∂f/∂dummy = 0).
+  virtual double* dq_parameters() { return nullptr; }
+  virtual std::vector<int> dq_parameter_list() const { return {}; }
+
+  // Projection onto a constraint manifold after each step (CVodeSetProjFn with BDF; DOP853 calls
+  // it after every accepted step, err = nullptr). Given
+  // the step's solution y (n), write the correction corr (n) so that y + corr is the projected
+  // state (‖corr‖ within the weighted tolerance eps_proj). err (n, may be nullptr) is CVODES's
+  // local error estimate; when not null, overwrite it with its projection (P err). Return 0 on
+  // success, > 0 for a recoverable failure (CVODES retries with a smaller step), < 0 fatal.
+  // NOTE: combining projection with sensitivities is experimental; see docs/solve.md.
+  virtual bool has_projection() const { return false; }
+  virtual int project(double /*t*/, const double* /*y*/, double* /*corr*/, double /*eps_proj*/,
+                      double* /*err*/) {
+    return 0;
+  }
+};
+
+}  // namespace kanesens::sim

@@ -1,0 +1,56 @@
+// CVODES settings (the study file's `solver:` section). Plain struct with defaults; validate()
+// checks it against the problem size and throws std::invalid_argument naming the field.
+#pragma once
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace kanesens::sim {
+
+// CV_BDF (stiff) | CV_ADAMS (non-stiff) | explicit Runge–Kutta 8(5,3) (non-stiff, tight
+// tolerances; solve/dop853.hpp: no Jacobian, iteration or max_order)
+enum class Method { bdf, adams, dop853 };
+enum class Iteration { newton, functional };  // Newton + dense LU | fixed point (no Jacobian)
+enum class JacobianKind { exact, dq };        // OdeProblem::jacobian | CVODES difference quotient
+enum class SensitivityMethod { simultaneous, staggered, staggered1 };  // CV_SIMULTANEOUS, ...
+enum class SensitivityRhs { exact, dq };  // OdeProblem::sensitivity_rhs | CVODES internal DQ
+
+struct SolverOptions {
+  Method method = Method::bdf;
+  Iteration iteration = Iteration::newton;
+  double rtol = 1e-8;                  // relative tolerance (all states)
+  double atol = 1e-10;                 // absolute tolerance, used when atol_per_state is empty
+  std::vector<double> atol_per_state;  // n entries (CVodeSVtolerances); empty = scalar atol
+  long max_steps = 100000;  // TOTAL steps allowed over the whole integration (not per output
+                            // interval as CVODES's mxstep: the integrator sets mxstep to what
+                            // is left before every output). Exceeding it: CV_TOO_MUCH_WORK.
+  int max_order = 0;        // 0 = CVODES default (BDF 5, Adams 12)
+  double initial_step = 0;  // 0 = CVODES estimates it
+  double max_step = 0;      // 0 = unbounded
+  JacobianKind jacobian = JacobianKind::exact;  // only with iteration = newton
+  SensitivityMethod sensitivity_method = SensitivityMethod::staggered;
+  bool sens_error_control = true;  // sensitivities take part in the local error test
+  SensitivityRhs sens_rhs = SensitivityRhs::exact;
+  // Absolute tolerance of every sensitivity (CVodeSensSStolerances with rtol). Unset: CVODES
+  // derives it from the state tolerances and the parameter scales, atol_i/|p̄_j|
+  // (CVodeSensEEtolerances).
+  std::optional<double> sens_atol;
+  // Projection (only when the problem has_projection()): CVodeSetProjErrEst and
+  // CVodeSetProjFrequency (steps between projections; 0 disables projection).
+  bool projection_error_estimate = true;
+  long projection_frequency = 1;
+
+  bool operator==(const SolverOptions&) const = default;
+
+  // Throws std::invalid_argument("solver.rtol: must be > 0, got -1") etc. n = problem size
+  // (checks atol_per_state); pass -1 to skip size-dependent checks.
+  void validate(int n = -1) const;
+};
+
+std::string_view to_string(Method m);
+std::string_view to_string(Iteration it);
+std::string_view to_string(JacobianKind j);
+std::string_view to_string(SensitivityMethod s);
+std::string_view to_string(SensitivityRhs s);
+
+}  // namespace kanesens::sim

@@ -1,0 +1,87 @@
+#include "sim/solve/sundials_handles.hpp"
+
+#include <cvodes/cvodes_ls.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <cstdlib>
+#include <stdexcept>
+
+namespace kanesens::sim {
+
+namespace {
+// CVodeGetReturnFlagName and CVodeGetLinReturnFlagName return a malloc'd string the caller
+// must free (a CVODES quirk: forgetting it leaks 24 bytes per call).
+std::string take_c_string(char* s) {
+  if (s == nullptr) return "UNKNOWN";
+  std::string out(s);
+  std::free(s);
+  return out;
+}
+}  // namespace
+
+std::string cvode_flag_name(int flag) {
+  return take_c_string(CVodeGetReturnFlagName(flag));
+}
+std::string cvode_ls_flag_name(int flag) {
+  return take_c_string(CVodeGetLinReturnFlagName(flag));
+}
+
+void check_flag(int flag, const char* call) {
+  if (flag < 0) {
+    throw std::runtime_error(std::string(call) + " failed: " + cvode_flag_name(flag) + " (" +
+                             std::to_string(flag) + ")");
+  }
+}
+
+void check_ls_flag(int flag, const char* call) {
+  if (flag < 0) {
+    throw std::runtime_error(std::string(call) + " failed: " + cvode_ls_flag_name(flag) + " (" +
+                             std::to_string(flag) + ")");
+  }
+}
+
+void check_ptr(const void* ptr, const char* call) {
+  if (ptr == nullptr) throw std::runtime_error(std::string(call) + " failed: returned NULL");
+}
+
+ContextPtr make_context() {
+  SUNContext ctx = nullptr;
+  const int flag = SUNContext_Create(nullptr, &ctx);
+  if (flag != 0 || ctx == nullptr) {
+    throw std::runtime_error("SUNContext_Create failed: " + std::to_string(flag));
+  }
+  return ContextPtr(ctx);
+}
+
+NVectorPtr make_serial_vector(int n, SUNContext ctx) {
+  N_Vector v = N_VNew_Serial(n, ctx);
+  check_ptr(v, "N_VNew_Serial");
+  return NVectorPtr(v);
+}
+
+MatrixPtr make_dense_matrix(int n, SUNContext ctx) {
+  SUNMatrix m = SUNDenseMatrix(n, n, ctx);
+  check_ptr(m, "SUNDenseMatrix");
+  return MatrixPtr(m);
+}
+
+LinearSolverPtr make_dense_solver(N_Vector y, SUNMatrix A, SUNContext ctx) {
+  SUNLinearSolver ls = SUNLinSol_Dense(y, A, ctx);
+  check_ptr(ls, "SUNLinSol_Dense");
+  return LinearSolverPtr(ls);
+}
+
+CvodeMemPtr make_cvode(int lmm, SUNContext ctx) {
+  void* mem = CVodeCreate(lmm, ctx);
+  check_ptr(mem, "CVodeCreate");
+  return CvodeMemPtr(mem);
+}
+
+NVectorArray::NVectorArray(int count, N_Vector like) {
+  vectors_ = N_VCloneVectorArray(count, like);
+  check_ptr(vectors_, "N_VCloneVectorArray");
+  count_ = count;
+}
+
+}  // namespace kanesens::sim

@@ -1,0 +1,17 @@
+# Runs the embedding example on a conservative scene: it must succeed, keep the energy to the
+# integration tolerance, and not link MPI or HDF5 (ldd).
+execute_process(COMMAND ${EMBED} ${SCENE} 2 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("${out}${err}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "kanesens-embed failed (${rc})")
+endif()
+if(NOT out MATCHES "energy drift ([0-9.e+-]+)")
+  message(FATAL_ERROR "no energy drift in the output")
+endif()
+if(NOT CMAKE_MATCH_1 LESS 1e-5)
+  message(FATAL_ERROR "energy drift ${CMAKE_MATCH_1} >= 1e-5 on a conservative scene")
+endif()
+execute_process(COMMAND ldd ${EMBED} OUTPUT_VARIABLE libs)
+if(libs MATCHES "lib(mpi|hdf5)[^ ]*")
+  message(FATAL_ERROR "kanesens-embed links ${CMAKE_MATCH_0}: the engine must embed without MPI and HDF5")
+endif()
