@@ -103,11 +103,13 @@ hid_t element_type(std::uint8_t b, Datatype& keep) {
   }
 }
 
-std::vector<hsize_t> dims(Bytes& in) {
+// Small, or (for datasets, whose storage HDF5 allocates lazily) up to 2^19 along an axis. An
+// attribute is written whole into the object header when created, so its dimensions stay small.
+std::vector<hsize_t> dims(Bytes& in, bool allow_large) {
   std::vector<hsize_t> d(in.next() % 4);
   for (auto& x : d) {
     const std::uint8_t b = in.next();
-    x = b < 250 ? b % 9 : hsize_t{1} << (10 + b % 10);  // small, or up to 2^19 (allocated lazily)
+    x = b < 250 || !allow_large ? b % 9 : hsize_t{1} << (10 + b % 10);
   }
   return d;
 }
@@ -127,7 +129,7 @@ void edit(hid_t f, Bytes& in) {
     case 1: {  // another type, rank or shape, maybe chunked and filtered, or stored elsewhere
       Datatype keep;
       const hid_t type = element_type(in.next(), keep);
-      const std::vector<hsize_t> d = dims(in);
+      const std::vector<hsize_t> d = dims(in, true);
       PropertyList dcpl(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate");
       const std::uint8_t storage = in.next() % 4;
       if (storage == 1 && !d.empty()) {
@@ -135,7 +137,8 @@ void edit(hid_t f, Bytes& in) {
         H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data());
         H5Pset_shuffle(dcpl.get());
       } else if (storage == 2) {
-        H5Pset_external(dcpl.get(), "precious.bin", 0, H5F_UNLIMITED);
+        // HDF5 reads and writes that file: keep it in the work directory, not the current one.
+        H5Pset_external(dcpl.get(), (files().dir / "precious.bin").c_str(), 0, H5F_UNLIMITED);
       } else if (storage == 3) {
         H5Pset_layout(dcpl.get(), H5D_COMPACT);
       }
@@ -182,7 +185,7 @@ void edit(hid_t f, Bytes& in) {
       if (in.next() % 2) break;
       Datatype keep;
       const hid_t type = element_type(in.next(), keep);
-      const std::vector<hsize_t> d = dims(in);
+      const std::vector<hsize_t> d = dims(in, false);
       Dataspace space(d.empty() ? H5Screate(H5S_SCALAR) : H5Screate_simple(static_cast<int>(d.size()), d.data(), nullptr),
                       "H5Screate");
       const hid_t a = H5Acreate2(f, name, type, space.get(), H5P_DEFAULT, H5P_DEFAULT);
