@@ -215,13 +215,14 @@ CLI::App* add_bench(CLI::App& app, Action& action) {
   auto* rhs = cmd->add_subcommand("rhs", "Time the right-hand side, M and f, and the exact (Dual) Jacobian");
   auto o = std::make_shared<BenchOptions>();
   rhs->add_option("scene", o->scene, "Scene YAML file")->required();
-  rhs->add_option("--repeat", o->repeat, "Number of timed batches (the median is reported)");
-  rhs->add_option("--batch-seconds", o->batch_seconds, "Minimum duration of one batch, s");
+  rhs->add_option("--repeat", o->repeat, "Number of timed batches (the median is reported)")->check(integer_in(1, 100000));
+  rhs->add_option("--batch-seconds", o->batch_seconds, "Minimum duration of one batch, s")->check(finite_number(0, 3600));
   rhs->add_option("--seed", o->seed, "Seed of the random state");
   rhs->add_flag("--json", o->json, "Print JSON");
   rhs->add_flag("--general-3d", o->general_3d, "Evaluate a planar scene with the general 3-D code");
   rhs->add_option("--profile", o->profile,
-                  "Run exactly N untimed evaluations of each kind (for callgrind: instructions / N)");
+                  "Run exactly N untimed evaluations of each kind (for callgrind: instructions / N)")
+      ->check(integer_in(0, 1LL << 40));
   rhs->callback([&action, o] { action = [o] { return run_bench_rhs(*o); }; });
   return cmd;
 }

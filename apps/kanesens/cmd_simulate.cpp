@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "parallel/resources.hpp"
 #include "sim/simulate.hpp"
 #include "study/setup.hpp"
 #include "util/json_writer.hpp"
@@ -121,10 +122,25 @@ int run_simulate(const SimulateOptions& o) {
     std::size_t start = 0;
     for (;;) {
       const auto c = o.sens.find(',', start);
-      sens.push_back(resolve_input(m, o.sens.substr(start, c == std::string::npos ? std::string::npos : c - start), "--sens"));
+      const std::string name = o.sens.substr(start, c == std::string::npos ? std::string::npos : c - start);
+      for (const InputRef& given : sens)
+        if (given.name == name) throw InputError({}, "--sens", "'" + name + "' is listed twice");
+      sens.push_back(resolve_input(m, name, "--sens"));
       if (c == std::string::npos) break;
       start = c + 1;
     }
+  }
+  {
+    // The trajectory is held in memory (and printed): check it fits, as `run` does per rank.
+    const double T = static_cast<double>(study.output_times.size()), S = static_cast<double>(sens.size());
+    const double bytes = 8.0 * T * ((m.nstate() + m.nconstraint_rows) * (1 + S) + 3);
+    const double available = parallel::available_memory_bytes();
+    if (bytes > available)
+      throw InputError(study.time_where, "time",
+                       "the trajectory (" + std::to_string(study.output_times.size()) + " times x " +
+                           std::to_string(m.nstate()) + " states x (1 + " + std::to_string(sens.size()) +
+                           " sensitivities)) needs about " + parallel::human_bytes(bytes) + " of memory but " +
+                           parallel::human_bytes(available) + " is available; use fewer output times or sensitivities");
   }
   KaneProblem problem(m, sens, study.constraints, study.output_times.front());
   problem.set_sample(setup.base);

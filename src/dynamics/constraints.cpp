@@ -357,7 +357,8 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
         for (int i = 0; i < nc; ++i) s += N(i, a) * N(i, b);
         G[b * ldg + a] = s;
       }
-    if (!math::cholesky_factor(G, ldg, G, ldg, d)) return false;  // only with non-finite entries
+    // NᵀN has an identity block, so only a non-finite N (a non-finite system) fails here.
+    if (!math::cholesky_factor(G, ldg, G, ldg, d)) return false;
     for (int a = 0; a < d; ++a) {  // y = Nᵀ λ_p, kept in schur_rhs (no longer needed)
       S s = S(0);
       for (int i = 0; i < nc; ++i) s += N(i, a) * lam[i];

@@ -134,6 +134,16 @@ void evaluate_mass_matrix_and_forcing(const Model& m, Workspace<S>& ws, const S&
   compute_forcing(m, ws, q, u);
 }
 
+const char* describe(RhsFailure failure) {
+  switch (failure) {
+    case RhsFailure::none: return "no failure";
+    case RhsFailure::mass_matrix_not_positive_definite: return "mass matrix is not positive definite";
+    case RhsFailure::constraints_degenerate:
+      return "the constraint system is degenerate (every constraint row vanishes, or it is not finite)";
+  }
+  return "?";
+}
+
 template <class S>
 void evaluate_constraints(const Model& m, Workspace<S>& ws, const S& t, const S* q, const S* u,
                           const DynamicsOptions& options) {
@@ -145,19 +155,23 @@ void evaluate_constraints(const Model& m, Workspace<S>& ws, const S& t, const S*
 }
 
 template <class S>
-bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot, const DynamicsOptions& options) {
+bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot, const DynamicsOptions& options,
+                  RhsFailure* failure) {
   const S* q = y;
   const S* u = y + m.nq;
   evaluate_mass_matrix_and_forcing(m, ws, t, q, u);
   compute_kinematic_derivatives(m, ws, q, u);
-  bool ok = solve_accelerations(m, ws);
-  if (ok && m.nconstraint_rows > 0) {
+  RhsFailure why = RhsFailure::none;
+  if (!solve_accelerations(m, ws)) {
+    why = RhsFailure::mass_matrix_not_positive_definite;
+  } else if (m.nconstraint_rows > 0) {
     compute_constraints(m, ws, q, u, options);
-    ok = solve_constrained_accelerations(m, ws);
+    if (!solve_constrained_accelerations(m, ws)) why = RhsFailure::constraints_degenerate;
   }
   for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
   for (int i = 0; i < m.nu; ++i) ydot[m.nq + i] = ws.udot[i];
-  return ok;
+  if (failure) *failure = why;
+  return why == RhsFailure::none;
 }
 
 template <class S>
@@ -208,7 +222,7 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
   template void evaluate_constraints<S>(const Model&, Workspace<S>&, const S&, const S*, const S*,   \
                                         const DynamicsOptions&);                                  \
   template bool evaluate_rhs<S>(const Model&, Workspace<S>&, const S&, const S*, S*,             \
-                                const DynamicsOptions&);                                        \
+                                const DynamicsOptions&, RhsFailure*);                           \
   template S kinetic_energy<S>(const Model&, const Workspace<S>&);                              \
   template S potential_energy<S>(const Model&, const Workspace<S>&, const S*);
 KANESENS_INSTANTIATE(double)

@@ -63,17 +63,23 @@ void rolling_plane_basis(const Vec3<S>& n, Vec3<S>& t1, Vec3<S>& t2);
 template <class S>
 S rolling_contact_height(const Model& m, const Workspace<S>& ws, const Constraint& c);
 
-// After solve_accelerations (ws.udot = M⁻¹ f): the multipliers λ and u̇ = M⁻¹(f + Aᵀλ), λ of
-// minimum norm when the constraints are redundant (ws.constraint_rank < m). False only when
-// the redundant-multiplier solve meets non-finite values.
+// After solve_accelerations (ws.udot = M⁻¹ f): the multipliers λ and u̇ = M⁻¹(f + Aᵀλ).
+// Returns false when no multiplier can be determined: every constraint row vanishes (rank 0)
+// or the system is not finite. Redundant rows (0 < rank < rows) get the minimum-norm λ.
 template <class S>
 bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws);
 
-// The whole right-hand side: y = [q; u] (nq + nu) → ydot = [q̇; u̇]. Returns false if M is
-// not positive definite (or the multipliers' solve fails). Parameters must have been set.
+// Why evaluate_rhs could not compute u̇ at a state.
+enum class RhsFailure { none, mass_matrix_not_positive_definite, constraints_degenerate };
+// "mass matrix is not positive definite", ... (for messages).
+const char* describe(RhsFailure failure);
+
+// The whole right-hand side: y = [q; u] (nq + nu) → ydot = [q̇; u̇]. Returns false if u̇ could
+// not be computed (then `failure`, if given, says why, and ydot must not be used): M is not
+// positive definite, or the constraint system is degenerate. Parameters must have been set.
 template <class S>
 bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot,
-                  const DynamicsOptions& options = {});
+                  const DynamicsOptions& options = {}, RhsFailure* failure = nullptr);
 // The constraint rows at (t, q, u), without M and f: state expressions, position, velocity, q̇,
 // then A, the residuals and the bias (compute_constraints). What every constraint-level use
 // evaluates (projection, consistent initial state, the embedding's speeds).

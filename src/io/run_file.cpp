@@ -1,6 +1,12 @@
 #include "io/run_file.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -35,9 +41,31 @@ int on_root(MPI_Comm comm, F f) {
   return value;
 }
 
+// Rank 0's text on every rank.
+std::string broadcast_text(MPI_Comm comm, std::string text) {
+  unsigned long long n = text.size();
+  MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
+  text.resize(static_cast<std::size_t>(n));
+  if (n > 0) MPI_Bcast(text.data(), static_cast<int>(n), MPI_CHAR, 0, comm);
+  return text;
+}
+
+// Whether `path` names anything, a dangling symbolic link included (never followed).
 bool file_exists(const std::string& path) {
-  std::error_code ec;
-  return std::filesystem::exists(path, ec);
+  struct stat info {};
+  return ::lstat(path.c_str(), &info) == 0;
+}
+
+// Renames `from` to `to`; unless `replace`, fails (EEXIST) when `to` exists, atomically where
+// the file system supports it. Returns 0 or an errno value.
+int rename_file(const std::string& from, const std::string& to, bool replace) {
+  if (replace) return std::rename(from.c_str(), to.c_str()) == 0 ? 0 : errno;
+  if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_NOREPLACE) == 0) return 0;
+  if (errno != EINVAL && errno != ENOSYS) return errno;
+  // No RENAME_NOREPLACE on this file system: link() refuses an existing name as well.
+  if (::link(from.c_str(), to.c_str()) != 0) return errno;
+  ::unlink(from.c_str());
+  return 0;
 }
 
 void expect_size(bool recorded, std::size_t given, std::size_t wanted, const char* what,
@@ -61,10 +89,22 @@ RunFile RunFile::create(MPI_Comm comm, const std::string& path, const RunLayout&
                              "continue it");
   }
   // Built under a temporary name and renamed once its metadata is on disk, so `path` never
-  // names a half-made file, even if the run is killed during creation.
+  // names a half-made file, even if the run is killed during creation. The temporary file is
+  // created exclusively (O_EXCL): an existing file, directory or symbolic link of that name is
+  // never opened, truncated or followed. With --overwrite a stale one left by a killed
+  // creation is unlinked first (a link is removed, its target is untouched); a directory stays.
   const std::string partial = path + ".partial";
+  if (overwrite) {
+    const int removed = on_root(comm, [&] {
+      struct stat info {};
+      if (::lstat(partial.c_str(), &info) != 0 || S_ISDIR(info.st_mode)) return 0;
+      return ::unlink(partial.c_str()) == 0 ? 0 : errno;
+    });
+    if (removed != 0)
+      throw std::runtime_error("cannot remove the stale '" + partial + "': " + std::strerror(removed));
+  }
   const PropertyList fapl = mpio_access(comm, partial);
-  File file(H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+  File file(H5Fcreate(partial.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl.get()),
             "H5Fcreate(" + partial + ")");
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
@@ -81,15 +121,9 @@ RunFile RunFile::create(MPI_Comm comm, const std::string& path, const RunLayout&
     std::filesystem::remove(partial, ec);
     throw;
   }
-  std::string rename_error;
-  if (on_root(comm, [&] {
-        std::error_code ec;
-        std::filesystem::rename(partial, path, ec);
-        rename_error = ec.message();
-        return ec ? 1 : 0;
-      })) {
-    throw std::runtime_error("cannot rename '" + partial + "' to '" + path + "'" +
-                             (rename_error.empty() ? "" : ": " + rename_error));
+  // Without --overwrite an output that appeared meanwhile is not replaced.
+  if (const int error = on_root(comm, [&] { return rename_file(partial, path, overwrite); })) {
+    throw std::runtime_error("cannot rename '" + partial + "' to '" + path + "': " + std::strerror(error));
   }
   return RunFile(path, std::move(file), layout);
 }
@@ -101,9 +135,22 @@ RunFile RunFile::open_for_resume(MPI_Comm comm, const std::string& path, const R
     throw std::runtime_error("cannot resume '" + path +
                              "': the file does not exist (run without --resume to create it)");
   }
+  // The file is input like the study: rank 0 checks it read-only, every dataset's type, shape,
+  // storage and the identifying attributes, before any rank opens it for writing.
+  std::string problem;
+  on_root(comm, [&] {
+    try {
+      File check_file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "H5Fopen(" + path + ")");
+      verify_schema(check_file.get(), path, layout, message_size);
+    } catch (const std::exception& e) {
+      problem = e.what();
+    }
+    return 0;
+  });
+  problem = broadcast_text(comm, problem);
+  if (!problem.empty()) throw std::runtime_error(problem);
   const PropertyList fapl = mpio_access(comm, path);
   File file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), "H5Fopen(" + path + ")");
-  verify_schema(file.get(), path, layout);
   return RunFile(path, std::move(file), layout);
 }
 

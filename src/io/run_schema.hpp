@@ -45,8 +45,11 @@ void validate_layout(const RunLayout& layout);
 void write_schema(hid_t file, const RunLayout& layout, int rank, std::size_t message_size);
 
 // Throws std::runtime_error("cannot resume '<path>': ...") naming the first way in which `file`
-// differs from what `layout` would create.
-void verify_schema(hid_t file, const std::string& path, const RunLayout& layout);
+// differs from what `layout` would create: a missing or different study_hash attribute (when the
+// layout has one), names, times, and the element type, shape and storage of every dataset a
+// sample row is written to (no soft or external links, external raw data, virtual datasets or
+// filters). Reads only what it has checked the shape of first.
+void verify_schema(hid_t file, const std::string& path, const RunLayout& layout, std::size_t message_size);
 
 // Dataset paths (absolute) used by RunFile for the per-sample data.
 inline constexpr const char* kStatusPath = "/status";

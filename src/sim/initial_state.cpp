@@ -5,6 +5,7 @@
 
 #include "dynamics/equations.hpp"
 #include "sim/correction_directions.hpp"
+#include "sim/initial_checks.hpp"
 #include "util/error.hpp"
 
 namespace kanesens::sim {
@@ -54,11 +55,21 @@ void unconstrained_state(const Model& m, const SampleInputs& inputs, const std::
   for (int s = 0; s < m.nstate(); ++s)
     if (inputs.initial_set[s]) y0[s] = Dual(inputs.initial_values[s], 0);
   if (i >= 0 && sens[i].kind == InputRef::Kind::initial_condition) y0[sens[i].index].d = 1;
-  for (const Joint& j : m.joints) {
+  for (std::size_t ji = 0; ji < m.joints.size(); ++ji) {
+    const Joint& j = m.joints[ji];
     if (j.quaternion_offset < 0) continue;
     Dual* e = y0.data() + j.quaternion_offset;
+    const model::JointSpec& js = m.spec.joints[ji];
+    const SourceLocation where = js.q0.empty() ? js.where : js.q0[0].where;
+    // Scaled by its largest component first (a constant: the tangent of the normalised result is
+    // unchanged), so that 1e200 or 1e-200 components normalise instead of overflowing.
+    double largest = 0;
+    for (int c = 0; c < 4; ++c) largest = std::max(largest, std::abs(e[c].v));
+    if (!std::isfinite(largest))
+      throw InputError(where, js.key + ".q0", "the initial quaternion of joint '" + j.name + "' is not finite");
+    if (!(largest > 0)) throw InputError(where, js.key + ".q0", "the initial quaternion of joint '" + j.name + "' is zero");
+    for (int c = 0; c < 4; ++c) e[c] = e[c] / largest;
     const Dual n = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3]);
-    if (!(n.v > 0)) throw InputError({}, j.name + ".q0", "the initial quaternion of joint '" + j.name + "' is zero");
     for (int c = 0; c < 4; ++c) e[c] = e[c] / n;
   }
 }
@@ -145,6 +156,12 @@ double correct_positions(const Model& m, const std::vector<unsigned char>& given
     double gmax = 0;
     for (int r = 0; r < mh; ++r) gmax = std::max(gmax, std::abs(gd[0][static_cast<std::size_t>(r)].v));
     if (gmax < 1e-13) ++converged;
+    if (dep.empty()) {  // no coordinate moves the constraints: nothing to correct
+      if (gmax < 1e-13) break;
+      throw InputError(m.spec.where, "scene.constraints",
+                       "the position constraints are violated at t0 (residual " + std::to_string(gmax) +
+                           ") and no coordinate changes them");
+    }
     values();
     holonomic.evaluate(t0, qv.data(), g, &G);
     D = coordinate_directions(m, wsv, t0, qv.data(), fallback);
@@ -167,7 +184,10 @@ double correct_positions(const Model& m, const std::vector<unsigned char>& given
       normalize_quaternions(m, tan.y[k]);
     }
     if (iter == 49)
-      throw InputError({}, "initial conditions", "cannot satisfy the position constraints at t0 (Newton did not converge; residual " + std::to_string(gmax) + ")");
+      throw InputError(m.spec.where, "scene.constraints",
+                       "cannot satisfy the position constraints at t0 from the given initial coordinates (Newton did "
+                       "not converge; residual " + std::to_string(gmax) + "): constraints that contradict each other, or "
+                       "initial values too far from any assembly?");
   }
   double dq_max = 0;
   for (int i = 0; i < nq; ++i)
@@ -212,6 +232,7 @@ double correct_speeds(const Model& m, const std::vector<unsigned char>& given, d
       Ud.resize(nu, static_cast<Eigen::Index>(dep.size()));
       for (std::size_t c = 0; c < dep.size(); ++c) Ud.col(static_cast<Eigen::Index>(c)) = U.col(dep[c]);
     }
+    if (dep.empty()) break;  // A vanishes (a redundant, all-zero system): nothing to correct
     const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A * Ud);
     const Eigen::VectorXd dv = Ud * cod.solve(rv);
     for (std::size_t k = 0; k < T; ++k) {
@@ -243,6 +264,14 @@ InitialState consistent_initial_state(const Model& m, const SampleInputs& inputs
     unconstrained_state(m, inputs, sens, static_cast<int>(k) - 1, *tan.workspace[k], tan.y[k]);
 
   InitialState init;
+  if (m.nconstraint_rows > 0) {
+    // A constraint that constrains nothing here (or is not finite) has no dependent coordinate
+    // to correct and no multiplier: name it instead of decomposing an empty matrix.
+    Workspace<Dual>& ws = *tan.workspace[0];
+    const Dual* y = tan.y[0].data();
+    dynamics::evaluate_constraints(m, ws, Dual(t0), y, y + m.nq);
+    check_constraint_rows(m, ws, t0);
+  }
   if (m.nconstraint_rows > 0 && options.correct_initial) {
     const std::vector<unsigned char> given = given_values(m, inputs, sens);
     if (holonomic.size() > 0)

@@ -117,13 +117,24 @@ void KaneProblem::initial_sensitivity(int i, double* s0) const {
 }
 
 template <class S>
-bool KaneProblem::evaluate(Workspace<S>& ws, const S& t, const S* y, S* ydot) {
-  if (!embedded_) return dynamics::evaluate_rhs(model_, ws, t, y, ydot, dynamics_);
-  if constexpr (std::is_same_v<S, double>) {
-    return dynamics::embedded_rhs(model_, ws, *sc_, sets_, t, y, ydot, dynamics_);
-  } else {
-    return dynamics::embedded_rhs(model_, ws, *sc_dual_, sets_, t, y, ydot, dynamics_);
+void KaneProblem::evaluate(Workspace<S>& ws, const S& t, const S* y, S* ydot) {
+  if (!embedded_) {
+    dynamics::RhsFailure why = dynamics::RhsFailure::none;
+    if (!dynamics::evaluate_rhs(model_, ws, t, y, ydot, dynamics_, &why)) throw RecoverableError(dynamics::describe(why));
+    return;
   }
+  if constexpr (std::is_same_v<S, double>) {
+    if (!dynamics::embedded_rhs(model_, ws, *sc_, sets_, t, y, ydot, dynamics_)) throw_embedding_failure(*sc_, t);
+  } else {
+    if (!dynamics::embedded_rhs(model_, ws, *sc_dual_, sets_, t, y, ydot, dynamics_))
+      throw_embedding_failure(*sc_dual_, math::value_of(t));
+  }
+}
+
+template <class Scratch>
+void KaneProblem::throw_embedding_failure(const Scratch& sc, double t) const {
+  if (!(sc.conditioning <= 1e10) || !(sc.amplification <= 1e12)) throw RecoverableError(embedding_failure(t, "have lost rank"));
+  throw RecoverableError("embedding: the mass matrix is not positive definite");
 }
 
 std::string KaneProblem::embedding_failure(double t, const char* what) const {
@@ -141,27 +152,25 @@ std::string KaneProblem::embedding_failure(double t, const char* what) const {
 }
 
 void KaneProblem::rhs(double t, const double* y, double* ydot) {
-  if (evaluate(workspaces_.values(), t, y, ydot)) {
-    // A partition that degrades is re-chosen between steps (after_step); one this bad means every
-    // partition is (the re-choice keeps the best).
-    // A trial point there is rejected (a smaller step may stay short of it).
-    if (embedded_ && (sc_->conditioning > 1e10 || sc_->amplification > 1e12))
-      throw RecoverableError(embedding_failure(t, "have (nearly) lost rank"));
-    return;
-  }
-  if (embedded_) {
-    if (!(sc_->conditioning <= 1e10) || !(sc_->amplification <= 1e12))
-      throw RecoverableError(embedding_failure(t, "have lost rank"));
-    throw std::runtime_error("embedding: the mass matrix is not positive definite at t = " + std::to_string(t));
-  }
-  throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
+  evaluate(workspaces_.values(), t, y, ydot);
+  // A partition that degrades is re-chosen between steps (after_step); one this bad means every
+  // partition is (the re-choice keeps the best). A trial point there is rejected (a smaller step
+  // may stay short of it).
+  if (embedded_ && (sc_->conditioning > 1e10 || sc_->amplification > 1e12))
+    throw RecoverableError(embedding_failure(t, "have (nearly) lost rank"));
 }
 
 template <int W>
-bool KaneProblem::evaluate_block(TangentBlock<W>& b, double t) {
+void KaneProblem::evaluate_block(TangentBlock<W>& b, double t) {
   using MD = math::MultiDual<W>;
-  return embedded_ ? dynamics::embedded_rhs(model_, b.ws, *b.embedding, sets_, MD(t), b.y.data(), b.ydot.data(), dynamics_)
-                   : dynamics::evaluate_rhs(model_, b.ws, MD(t), b.y.data(), b.ydot.data(), dynamics_);
+  if (embedded_) {
+    if (!dynamics::embedded_rhs(model_, b.ws, *b.embedding, sets_, MD(t), b.y.data(), b.ydot.data(), dynamics_))
+      throw_embedding_failure(*b.embedding, t);
+    return;
+  }
+  dynamics::RhsFailure why = dynamics::RhsFailure::none;
+  if (!dynamics::evaluate_rhs(model_, b.ws, MD(t), b.y.data(), b.ydot.data(), dynamics_, &why))
+    throw RecoverableError(dynamics::describe(why));
 }
 
 // Columns in blocks: a block seeds e_c on y_c for each of its columns c and reads them all from
@@ -210,8 +219,7 @@ void KaneProblem::jacobian(double t, const double* y, const double*, double* J) 
       b.y[r].v = y[r];
       b.y[r].set_tangents([&](int i) { return b.first + i == r ? 1.0 : 0.0; }, b.count);
     }
-    if (!evaluate_block(b, t))
-      throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
+    evaluate_block(b, t);
     for (int i = 0; i < b.count; ++i) {
       double* column = J + static_cast<std::ptrdiff_t>(b.first + i) * n;
       for (int r = 0; r < n; ++r) column[r] = b.ydot[r].d(i);
@@ -229,8 +237,7 @@ void KaneProblem::sensitivity_rhs_all(double t, const double* y, const double*, 
       b.y[r].v = y[r];
       b.y[r].set_tangents([&](int i) { return s[b.first + i][r]; }, b.count);
     }
-    if (!evaluate_block(b, t))
-      throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
+    evaluate_block(b, t);
     for (int i = 0; i < b.count; ++i)
       for (int r = 0; r < n; ++r) sdot[b.first + i][r] = b.ydot[r].d(i);
   });
@@ -257,8 +264,7 @@ void KaneProblem::rhs_with_sensitivities(double t, const double* y, int ns, cons
 void KaneProblem::sensitivity_rhs(double t, const double* y, const double*, int i, const double* s, double* sdot) {
   const int n = size();
   for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], s[r]);
-  if (!evaluate(workspaces_.tangent(i), Dual(t), y_dual_.data(), ydot_dual_.data()))
-    throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
+  evaluate(workspaces_.tangent(i), Dual(t), y_dual_.data(), ydot_dual_.data());
   for (int r = 0; r < n; ++r) sdot[r] = ydot_dual_[r].d;
 }
 

@@ -51,6 +51,11 @@ class KaneProblem final : public OdeProblem {
     return embedded_ ? model_.nq + static_cast<int>(sets_.independent.size()) : model_.nstate();
   }
   void initial_state(double* y0) const override;
+  // Checks the current sample at t0 as validation does before a run (sim/initial_checks.cpp):
+  // its consistent initial state exists (no constraint vanishes or is non-finite there, the
+  // correction converges) and Kane's equations give finite values there with a positive
+  // definite mass matrix. Throws InputError naming what is wrong and where it was written.
+  void validate_initial_state() const;
   void rhs(double t, const double* y, double* ydot) override;
   bool has_jacobian() const override { return true; }
   void jacobian(double t, const double* y, const double* ydot, double* J) override;
@@ -118,9 +123,10 @@ class KaneProblem final : public OdeProblem {
 
  private:
   // The integrated right-hand side on scalar S, in the workspace given: the multiplier form, or
-  // the embedding's. False if M (or A_d) is singular.
+  // the embedding's. Throws solve's RecoverableError, saying why, where u̇ cannot be computed (a
+  // singular M or A_d, a degenerate constraint system): the integrator retries smaller.
   template <class S>
-  bool evaluate(dynamics::Workspace<S>& ws, const S& t, const S* y, S* ydot);
+  void evaluate(dynamics::Workspace<S>& ws, const S& t, const S* y, S* ydot);
   // Throws the failure of the current sample's initial state, if any.
   void check_initial_state() const;
 
@@ -154,7 +160,10 @@ class KaneProblem final : public OdeProblem {
   TangentBlocks jacobian_blocks_, sensitivity_blocks_;
   int jacobian_blocks_size_ = -1;
   template <int W>
-  bool evaluate_block(TangentBlock<W>& b, double t);
+  void evaluate_block(TangentBlock<W>& b, double t);
+  // The embedding could not evaluate: rank lost (the rows named) or M not positive definite.
+  template <class Scratch>
+  [[noreturn]] void throw_embedding_failure(const Scratch& sc, double t) const;
   std::vector<double> u_full_, s_full_;  // after_step scratch (nu, nstate)
 };
 

@@ -3,6 +3,8 @@
 #include <map>
 
 #include "model/build_model.hpp"
+#include "sim/kane_problem.hpp"
+#include "util/did_you_mean.hpp"
 
 namespace kanesens::study {
 namespace {
@@ -52,6 +54,22 @@ StudySetup setup_study(const std::string& path, const std::vector<std::string>& 
   s.record.constraint_residual = st.record.count(RecordItem::constraint_residual) > 0 && constrained;
   if (st.record.count(RecordItem::sensitivities) && s.sensitivities.empty())
     throw InputError(st.record_where, "record", "'sensitivities' is recorded but the study lists no sensitivities");
+  if (!st.solver.atol_per_state.empty()) {
+    if (static_cast<int>(st.solver.atol_per_state.size()) != s.model.nstate())
+      throw InputError(st.atol_where, "solver.atol",
+                       "expected one entry per state (" + std::to_string(s.model.nstate()) + ": " +
+                           join_names(s.model.state_names) + "), found " + std::to_string(st.solver.atol_per_state.size()));
+    if (constrained && st.constraints.formulation == sim::ConstraintOptions::Formulation::embedding)
+      throw InputError(st.atol_where, "solver.atol",
+                       "a list of per-state tolerances is not supported with formulation: embedding (it integrates "
+                       "fewer states); give one number");
+  }
+  // The nominal sample at its initial state: a constraint that constrains nothing there, equations
+  // that are not finite or a mass matrix that is not positive definite are found now, not in
+  // every sample after a run's file exists.
+  sim::KaneProblem nominal(s.model, s.recorded_sensitivities(), st.constraints, st.output_times.front());
+  nominal.set_sample(s.base);
+  nominal.validate_initial_state();
   return s;
 }
 

@@ -36,6 +36,8 @@ struct StudySpec {
   SamplingSpec sampling;
   std::vector<VariedInput> vary;        // `vary:`, in file order
   std::vector<SourceLocation> vary_where;  // where each varied input's name is written
+  SourceLocation time_where;  // the `time:` map (messages about the number of outputs)
+  SourceLocation atol_where;  // solver.atol, when given
   // Parameter and initial-condition values given with --set ("m2" → 0.9, "elbow.q0" → 0.3).
   std::map<std::string, double> set_inputs;
 };

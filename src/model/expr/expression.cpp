@@ -269,14 +269,27 @@ Expression::Expression(double constant) : text_(std::to_string(constant)) {
 }
 
 void NameTable::add(const std::string& name, VarRef ref) {
+  index_.emplace(name, names_.size());  // the first entry of a name wins, as before
   names_.push_back(name);
   refs_.push_back(ref);
 }
 
 std::optional<VarRef> NameTable::find(const std::string& name) const {
-  for (std::size_t i = 0; i < names_.size(); ++i)
-    if (names_[i] == name) return refs_[i];
-  return std::nullopt;
+  const auto it = index_.find(name);
+  if (it == index_.end()) return std::nullopt;
+  return refs_[it->second];
+}
+
+bool Expression::uses(VarKind kind, int index) const {
+  for (const Instruction& i : code_)
+    if (i.op == Op::variable && i.kind == kind && i.index == index) return true;
+  return false;
+}
+
+bool Expression::uses_any(VarKind kind) const {
+  for (const Instruction& i : code_)
+    if (i.op == Op::variable && i.kind == kind) return true;
+  return false;
 }
 
 Expression compile(const std::string& text, const NameTable& names, const SourceLocation& where,

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "util/error.hpp"
@@ -22,12 +23,13 @@ struct VarRef {
 class NameTable {
  public:
   void add(const std::string& name, VarRef ref);
-  std::optional<VarRef> find(const std::string& name) const;
+  std::optional<VarRef> find(const std::string& name) const;  // hashed: scenes of 100 000 names
   const std::vector<std::string>& names() const { return names_; }
 
  private:
   std::vector<std::string> names_;
   std::vector<VarRef> refs_;
+  std::unordered_map<std::string, std::size_t> index_;  // name → first entry
 };
 
 enum class Op : unsigned char {
@@ -68,6 +70,10 @@ class Expression {
   bool uses_state() const { return uses_state_; }
   // Value when is_constant().
   double constant_value() const { return code_.empty() ? 0.0 : code_[0].value; }
+  // Whether it reads variable `index` of `kind` (e.g. coordinate 3).
+  bool uses(VarKind kind, int index) const;
+  // Whether it reads any variable of `kind`.
+  bool uses_any(VarKind kind) const;
 
   template <class S>
   S evaluate(const Inputs<S>& in) const;

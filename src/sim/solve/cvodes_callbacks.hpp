@@ -46,11 +46,12 @@ struct CallbackData {
     return -1;
   }
 
-  // A callback asked for a smaller step (RecoverableError): keep its message, return +1.
+  // The callback could not evaluate at this trial state (RecoverableError): +1, CVODES retries
+  // with a smaller step; the message is reported if it gives up.
   int recover(const char* where, double t, const char* what) noexcept {
     ++recoverable;
     try {
-      callback_message = std::string(where) + " at t = " + format_time(t) + ": " + what;
+      callback_message = std::string(where) + " failed at t = " + format_time(t) + ": " + what;
     } catch (...) {
     }
     return 1;

@@ -59,7 +59,8 @@ class Stepper {
   std::size_t size() const { return N_; }
   std::size_t states() const { return n_; }
 
-  // dz = f(t, z): the ODE and every sensitivity right-hand side along it, in one call.
+  // dz = f(t, z): the ODE, then each sensitivity's right-hand side along it.
+  // A RecoverableError leaves dz NaN: the trial step is rejected and retried smaller.
   void f(double t, const std::vector<double>& zz, std::vector<double>& dz, SolverStats& stats) {
     try {
       for (int i = 0; i < ns_; ++i) {
@@ -71,7 +72,6 @@ class Stepper {
       ++stats.rhs_evals;
       stats.sens_rhs_evals += ns_;
     } catch (const RecoverableError& e) {
-      // A smaller step may avoid it: a non-finite stage rejects the step.
       std::fill(dz.begin(), dz.end(), std::numeric_limits<double>::quiet_NaN());
       recoverable_message = e.what();
     } catch (const std::exception& e) {
@@ -189,7 +189,7 @@ class Stepper {
 
  public:
   std::vector<double> z, z_new;  // the current state and the trial step's (stacked)
-  std::string recoverable_message;  // the last RecoverableError of a callback
+  std::string recoverable_message;  // the last RecoverableError of the right-hand side
 
  private:
   OdeProblem& problem_;
@@ -252,6 +252,8 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
   try {
     if (times.size() > 1) {
       st.f(t, st.z, st.first_stage(), r.stats);
+      if (!st.recoverable_message.empty())  // nothing to retry at the initial state
+        return finish(status_rhs_failed, t, at_time("DOP853_RHSFUNC_FAIL", t) + ": " + st.recoverable_message);
       h = options.initial_step > 0 ? std::min(options.initial_step, h_max) : st.initial_step(t, h_max, r.stats);
     }
     for (std::size_t k = 1; k < times.size(); ++k) {
@@ -275,9 +277,10 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
           if (h < 16 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t)))
             return finish(status_step_too_small, t,
                           at_time("DOP853_ERR_FAILURE", t) + ": the step size fell below round-off of t (" +
-                              (std::isnan(err) ? std::string("the right-hand side is not finite")
-                                               : std::string("repeated error-test failures")) + ")" +
-                              (st.recoverable_message.empty() ? std::string() : "; " + st.recoverable_message));
+                              (!std::isnan(err)                  ? std::string("repeated error-test failures")
+                               : st.recoverable_message.empty() ? std::string("the right-hand side is not finite")
+                                                                : st.recoverable_message) +
+                              ")");
           continue;
         }
         double factor = err == 0 ? max_factor : std::min(max_factor, std::max(min_factor, safety * std::pow(err, error_exponent)));

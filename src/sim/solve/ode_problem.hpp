@@ -14,17 +14,20 @@
 // CVODES's own vectors and must neither allocate nor keep the pointers. They may throw: the
 // integrator's nothrow trampolines catch the exception, keep its message, and make CVODES stop
 // (return −1). A non-finite value written into ydot, J or sdot is caught by the trampoline too
-// and reported to CVODES as a recoverable failure (+1: it retries with a smaller step).
+// and reported to CVODES as a recoverable failure (+1: it retries with a smaller step), and so
+// is a RecoverableError: the state of a trial step where the equations cannot be solved (a
+// singular mass matrix), which a smaller step may avoid.
 #pragma once
 #include <stdexcept>
 #include <vector>
 
 namespace kanesens::sim {
 
-// Thrown by rhs, jacobian or sensitivity_rhs for a failure that a smaller step may avoid (a
-// trial point past a singular position): the integrator rejects the step as for a non-finite
-// value (CVODES +1, DOP853 a smaller step) and keeps the message for its report.
-struct RecoverableError : std::runtime_error {
+// Thrown by rhs, jacobian or sensitivity_rhs when f cannot be evaluated at this (t, y) but may
+// be at a nearby one: the integrator retries the step with a smaller one (CVODES's recoverable
+// +1; DOP853 likewise), and reports this message if that does not help.
+class RecoverableError : public std::runtime_error {
+ public:
   using std::runtime_error::runtime_error;
 };
 
