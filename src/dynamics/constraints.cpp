@@ -371,7 +371,7 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
   for (int i = 0; i < nc; ++i) ws.multipliers[perm[i]] = lam[i];
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < nc; ++j) ws.udot[k] += ws.minv_at(k, j) * ws.multipliers[j];
-  return true;
+  return r > 0 || nc == 0;
 }
 
 #define KANESENS_INSTANTIATE(S)                                                          \
