@@ -20,68 +20,17 @@
 #include <utility>
 #include <vector>
 
+#include "sim/solve/cvodes_callbacks.hpp"
+#include "sim/solve/cvodes_quadrature.hpp"
 #include "sim/solve/sundials_handles.hpp"
 
 namespace kanesens::sim {
 
 namespace {
 
-std::string format_time(double t) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", t);
-  return buf;
-}
-
-// What the trampolines share with the integrator (CVodeSetUserData). Lives inside
-// Integrator::Impl, whose address is stable.
-struct CallbackData {
-  OdeProblem* problem = nullptr;
-  int n = 0;
-  long recoverable = 0;          // callbacks that returned +1
-  std::string callback_message;  // last callback failure (exception or non-finite output)
-  std::string solver_message;    // last error reported by CVODES's error handler
-
-  void reset(OdeProblem* p, int size) {
-    problem = p;
-    n = size;
-    recoverable = 0;
-    callback_message.clear();
-    solver_message.clear();
-  }
-
-  // An exception escaped a callback: keep its message, tell CVODES to stop (−1).
-  int fail(const char* where, double t, const char* what) noexcept {
-    try {
-      callback_message = std::string(where) + " threw at t = " + format_time(t) + ": " + what;
-    } catch (...) {  // out of memory: the status still says what happened
-    }
-    return -1;
-  }
-
-  // Scan a callback's output; a NaN or Inf makes the step fail recoverably (+1), so CVODES
-  // retries with a smaller step; if that keeps happening it gives up with a flag < 0.
-  int check_finite(const char* where, double t, const double* v, long count) noexcept {
-    for (long i = 0; i < count; ++i) {
-      if (!std::isfinite(v[i])) {
-        ++recoverable;
-        try {
-          char buf[160];
-          std::snprintf(buf, sizeof buf,
-                        "%s returned a non-finite value (%g at index %ld) at t = %.10g", where,
-                        v[i], i, t);
-          callback_message = buf;
-        } catch (...) {
-        }
-        return 1;
-      }
-    }
-    return 0;
-  }
-};
-
-CallbackData& data_of(void* user_data) {
-  return *static_cast<CallbackData*>(user_data);
-}
+using detail::CallbackData;
+using detail::data_of;
+using detail::format_time;
 
 // --- nothrow trampolines: exceptions never cross into C ---
 
@@ -191,6 +140,7 @@ struct Integrator::Impl {
   bool built = false;
   int n = 0;
   int ns = 0;
+  int nquad = 0;
   bool projection = false;
 
   // Declared in creation order; release() frees them in reverse (cvode_mem first).
@@ -203,6 +153,7 @@ struct Integrator::Impl {
   NVectorArray yS;
   NonlinearSolverPtr NLS_sens;
   CvodeMemPtr mem;
+  detail::CvodesQuadrature quadrature;  // after mem: its vectors are only CVODES's templates
 
   std::vector<const double*> s_pointers;  // ns pointers into yS, for record()
   std::vector<double> pbar;               // sensitivity scales of the current problem
@@ -211,6 +162,7 @@ struct Integrator::Impl {
   std::vector<double> dq_p_saved;         // its values at the start of the run
 
   void release() noexcept {
+    quadrature.release();
     mem.reset();
     NLS_sens.reset();
     yS = NVectorArray();
@@ -224,8 +176,8 @@ struct Integrator::Impl {
   }
 
   void check_problem(OdeProblem& problem, std::span<const double> times) const;
-  void build(int n_states, int n_sens, bool with_projection, double t0);
-  void reinit(OdeProblem& problem, double t0, double t_end);
+  void build(int n_states, int n_sens, bool with_projection, int n_quad, double t0);
+  void reinit(OdeProblem& problem, OdeQuadrature* quad, double t0, double t_end);
   void restore_dq_parameters() noexcept {
     for (std::size_t i = 0; i < dq_p_saved.size(); ++i) dq_p[plist[i]] = dq_p_saved[i];
   }
@@ -278,7 +230,7 @@ void Integrator::Impl::check_problem(OdeProblem& problem, std::span<const double
   }
 }
 
-void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, double t0) {
+void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int n_quad, double t0) {
   release();
   const SolverOptions& o = options;
   ctx = make_context();
@@ -373,16 +325,22 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, dou
     }
   }
 
+  // → quadratures (and their sensitivities), after SensInit as CVodeQuadSensInit requires
+  quadrature.build(mem.get(), ctx.get(), n_quad, n_sens, o, cb);
+
   s_pointers.assign(static_cast<std::size_t>(n_sens), nullptr);
   for (int i = 0; i < n_sens; ++i) s_pointers[static_cast<std::size_t>(i)] = yS.data(i);
   n = n_states;
   ns = n_sens;
+  nquad = n_quad;
   projection = with_projection;
   built = true;
 }
 
-void Integrator::Impl::reinit(OdeProblem& problem, double t0, double t_end) {
+void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, double t0, double t_end) {
   cb.reset(&problem, n);
+  cb.quadrature = quad;
+  cb.nquad = nquad;
   problem.initial_state(N_VGetArrayPointer(y.get()));
   check_flag(CVodeReInit(mem.get(), t0, y.get()), "CVodeReInit");
   dq_p = nullptr;
@@ -407,6 +365,7 @@ void Integrator::Impl::reinit(OdeProblem& problem, double t0, double t_end) {
                                   plist.empty() ? nullptr : plist.data()),
                "CVodeSetSensParams");
   }
+  quadrature.reinit(mem.get());
   // Never step past the last output (a model's forcing may be defined only up to t_end).
   check_flag(CVodeSetStopTime(mem.get(), t_end), "CVodeSetStopTime");
 }
@@ -451,9 +410,10 @@ const SolverOptions& Integrator::options() const {
 }
 
 IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const double> times,
-                                        const RecordFn& record) {
+                                        const RecordFn& record, OdeQuadrature* quad) {
   // The explicit method has no CVODES objects; it shares the options, result and record().
-  if (impl_->options.method == Method::dop853) return integrate_dop853(problem, impl_->options, times, record);
+  if (impl_->options.method == Method::dop853)
+    return integrate_dop853(problem, impl_->options, times, record, quad);
   const auto start = std::chrono::steady_clock::now();
   Impl& im = *impl_;
   im.check_problem(problem, times);
@@ -461,10 +421,11 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   const int n_states = problem.size();
   const int n_sens = problem.num_sensitivities();
   const bool with_projection = problem.has_projection();
-  if (!im.built || im.n != n_states || im.ns != n_sens || im.projection != with_projection) {
-    im.build(n_states, n_sens, with_projection, times.front());
+  const int n_quad = quad ? quad->size() : 0;
+  if (!im.built || im.n != n_states || im.ns != n_sens || im.projection != with_projection || im.nquad != n_quad) {
+    im.build(n_states, n_sens, with_projection, n_quad, times.front());
   }
-  im.reinit(problem, times.front(), times.back());
+  im.reinit(problem, quad, times.front(), times.back());
 
   // Restore CVODES's DQ perturbations of the problem's parameters however we leave.
   struct RestoreGuard {
@@ -478,6 +439,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   const double* const* s = n_sens > 0 ? im.s_pointers.data() : nullptr;
 
   record(0, times[0], y, s);
+  if (quad) im.quadrature.record(m, *quad, 0, times[0]);
   result.outputs_recorded = 1;
   result.status = 1;
   result.t_fail = std::numeric_limits<double>::quiet_NaN();
@@ -511,6 +473,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
     }
     if (n_sens > 0) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
     record(static_cast<int>(k), tout, y, s);
+    if (quad) im.quadrature.record(m, *quad, static_cast<int>(k), tout);
     ++result.outputs_recorded;
   }
 
@@ -521,9 +484,9 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
 }
 
 IntegrationResult integrate(OdeProblem& problem, const SolverOptions& options,
-                            std::span<const double> output_times, const RecordFn& record) {
+                            std::span<const double> output_times, const RecordFn& record, OdeQuadrature* quad) {
   Integrator integrator(options);
-  return integrator.integrate(problem, output_times, record);
+  return integrator.integrate(problem, output_times, record, quad);
 }
 
 std::string sundials_version() {
