@@ -22,7 +22,7 @@ std::string number_text(double x) {
 
 // The index of `name` among `names`, or an InputError listing them.
 template <class Items, class Name>
-int find_named(const Items& items, Name name_of, const OutputSpec& o, const char* what) {
+int find_named(const Items& items, Name name_of, const OutputSpec& o, const char* what, const char* plural) {
   std::vector<std::string> names;
   for (std::size_t i = 0; i < items.size(); ++i) {
     names.push_back(name_of(items[i]));
@@ -30,7 +30,7 @@ int find_named(const Items& items, Name name_of, const OutputSpec& o, const char
   }
   throw InputError(o.target_where, o.target_key,
                    std::string("unknown ") + what + " '" + o.target + "'" + did_you_mean(o.target, names) + "; " +
-                       what + "s are: " + join_names(names));
+                       plural + " are: " + join_names(names));
 }
 
 struct Builder {
@@ -93,18 +93,18 @@ struct Builder {
       case OutputKind::angular_velocity: {
         n.body = m.find_body(o.target);
         if (n.body == -1) throw InputError(o.target_where, o.target_key, "'ground' does not move; name a body");
-        if (n.body < 0) n.body = find_named(m.bodies, [](const model::Body& b) { return b.name; }, o, "body");
+        if (n.body < 0) n.body = find_named(m.bodies, [](const model::Body& b) { return b.name; }, o, "body", "bodies");
         compile_point(n, o);
         break;
       }
       case OutputKind::joint_load:
-        n.joint = find_named(m.joints, [](const model::Joint& j) { return j.name; }, o, "joint");
+        n.joint = find_named(m.joints, [](const model::Joint& j) { return j.name; }, o, "joint", "joints");
         break;
       case OutputKind::constraint_force:
-        n.constraint = find_named(m.constraints, [](const model::Constraint& c) { return c.name; }, o, "constraint");
+        n.constraint = find_named(m.constraints, [](const model::Constraint& c) { return c.name; }, o, "constraint", "constraints");
         break;
       case OutputKind::force_element:
-        n.force = find_named(m.forces, [](const model::Force& f) { return f.name; }, o, "force");
+        n.force = find_named(m.forces, [](const model::Force& f) { return f.name; }, o, "force", "forces");
         if (m.forces[static_cast<std::size_t>(n.force)].kind != model::ForceKind::spring_damper)
           throw InputError(o.target_where, o.target_key,
                            "'" + o.target + "' is a " + model::force_kind_name(m.forces[static_cast<std::size_t>(n.force)].kind) +
@@ -184,12 +184,16 @@ struct Builder {
     std::vector<int> cycle;
     const std::vector<int> order = sim::order_outputs(depends, cycle);
     if (order.empty()) {
-      std::string path;
+      // The outputs' names along the cycle (an `of:` expression is its output's).
+      std::vector<std::string> names;
       for (int v : cycle) {
         const int s = spec_of_node[static_cast<std::size_t>(v)];
         const std::string name = s < 0 ? plan.nodes[static_cast<std::size_t>(v)].name : specs[static_cast<std::size_t>(s)].name;
-        if (path.empty() || path.substr(path.rfind(' ') + 1) != name) path += (path.empty() ? "" : " -> ") + name;
+        if (names.empty() || names.back() != name) names.push_back(name);
       }
+      if (names.size() == 1) names.push_back(names.front());  // reads itself
+      std::string path;
+      for (const auto& name : names) path += (path.empty() ? "" : " -> ") + name;
       throw InputError(where_of(cycle.front()), node_key[static_cast<std::size_t>(cycle.front())],
                        "outputs depend on each other in a cycle: " + path);
     }
