@@ -25,16 +25,20 @@ constexpr hsize_t kMaxChunkBytes = hsize_t{256} << 20;
 
 struct Dimension {
   std::string name;
-  const std::vector<std::string>* labels = nullptr;  // string coordinate, or null
+  std::vector<std::string> labels;  // the string coordinate
 };
 
 // The string dimensions that exist for `layout`, in schema order (see run_schema.hpp).
 std::vector<Dimension> string_dimensions(const RunLayout& l) {
-  std::vector<Dimension> dims{{"state", &l.state_names}};
-  if (has_parameters(l)) dims.push_back({"parameter", &l.parameter_names});
-  if (has_sensitivities(l)) dims.push_back({"sensitivity", &l.sensitivity_names});
-  if (has_multipliers(l)) dims.push_back({"constraint", &l.constraint_names});
-  if (!l.output_names.empty()) dims.push_back({"output", &l.output_names});
+  std::vector<Dimension> dims{{"state", l.state_names}};
+  if (has_parameters(l)) dims.push_back({"parameter", l.parameter_names});
+  if (has_sensitivity_dimension(l)) dims.push_back({"sensitivity", l.sensitivity_names});
+  if (has_multipliers(l)) dims.push_back({"constraint", l.constraint_names});
+  if (!all_output_names(l).empty()) dims.push_back({"output", all_output_names(l)});
+  if (has_poses(l)) {
+    dims.push_back({"body", l.body_names});
+    dims.push_back({"pose", pose_components()});
+  }
   return dims;
 }
 
@@ -54,6 +58,14 @@ std::vector<Variable> float_variables(const RunLayout& l) {
     vars.push_back({"/sensitivities", {"sample", "time", "state", "sensitivity"}});
   }
   for (const auto& name : l.output_names) vars.push_back({output_path(name), {"sample", "time"}});
+  for (const auto& name : l.scalar_output_names) vars.push_back({output_path(name), {"sample"}});
+  if (has_output_sensitivities(l)) {
+    for (const auto& name : l.output_sensitivity_names)
+      vars.push_back({output_sensitivity_path(name), {"sample", "time", "sensitivity"}});
+    for (const auto& name : l.scalar_output_sensitivity_names)
+      vars.push_back({output_sensitivity_path(name), {"sample", "sensitivity"}});
+  }
+  if (has_poses(l)) vars.push_back({kPosesPath, {"sample", "time", "body", "pose"}});
   for (const auto& name : l.stat_names) vars.push_back({stat_path(name), {"sample"}});
   return vars;
 }
@@ -65,7 +77,9 @@ hsize_t dimension_size(const RunLayout& l, const std::string& dim) {
   if (dim == "parameter") return l.parameter_names.size();
   if (dim == "sensitivity") return l.sensitivity_names.size();
   if (dim == "constraint") return l.constraint_names.size();
-  return l.output_names.size();  // "output"
+  if (dim == "body") return l.body_names.size();
+  if (dim == "pose") return pose_components().size();
+  return all_output_names(l).size();  // "output"
 }
 
 std::vector<hsize_t> chunk_shape(const std::vector<hsize_t>& shape, std::size_t element_size) {
@@ -317,7 +331,15 @@ void validate_layout(const RunLayout& l) {
   check_names(l.parameter_names, "parameter", false);
   check_names(l.sensitivity_names, "sensitivity", false);
   check_names(l.constraint_names, "constraint", false);
-  check_names(l.output_names, "output", true);
+  check_names(all_output_names(l), "output", true);
+  check_names(l.body_names, "body", false);
+  auto subset = [](const std::vector<std::string>& part, const std::vector<std::string>& of) {
+    for (const auto& name : part)
+      if (std::find(of.begin(), of.end(), name) == of.end())
+        throw std::invalid_argument("run file: sensitivities of '" + name + "', which is not an output of that shape");
+  };
+  subset(l.output_sensitivity_names, l.output_names);
+  subset(l.scalar_output_sensitivity_names, l.scalar_output_names);
   check_names(l.stat_names, "solver statistic", true);
   std::vector<std::string> varied;
   for (const auto& d : l.distributions) {
@@ -344,16 +366,20 @@ void write_schema(hid_t file, const RunLayout& l, int rank, std::size_t message_
   scales["time"] = create_dataset(file, "/time", H5T_IEEE_F64LE, {l.times.size()}, nullptr);
   write_values(scales["time"], "/time", H5T_NATIVE_DOUBLE, l.times.data(), rank);
   for (const auto& dim : string_dimensions(l)) {
-    scales[dim.name] = create_strings(file, "/" + dim.name, *dim.labels, rank);
+    scales[dim.name] = create_strings(file, "/" + dim.name, dim.labels, rank);
     const std::string alias = "/" + dim.name + "_name";
-    attach(create_strings(file, alias, *dim.labels, rank), alias, {dim.name}, scales);
+    attach(create_strings(file, alias, dim.labels, rank), alias, {dim.name}, scales);
   }
   for (const auto& [name, scale] : scales) set_scale(scale, name);
 
   // Per-sample data, filled so that an unwritten row reads as "not run".
-  if (!l.output_names.empty()) {
+  if (!all_output_names(l).empty()) {
     Group(H5Gcreate2(file, "/outputs", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
           "H5Gcreate2(/outputs)");
+  }
+  if (has_output_sensitivities(l)) {
+    Group(H5Gcreate2(file, "/output_sensitivities", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+          "H5Gcreate2(/output_sensitivities)");
   }
   if (!l.stat_names.empty()) {
     Group(H5Gcreate2(file, "/solver_stats", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
@@ -415,9 +441,10 @@ void verify_schema(hid_t file, const std::string& path, const RunLayout& l, std:
     const std::vector<std::string> none;
     compare("state names", "state", l.state_names);
     compare("parameter names", "parameter", l.parameter_names);
-    compare("sensitivity names", "sensitivity", has_sensitivities(l) ? l.sensitivity_names : none);
+    compare("sensitivity names", "sensitivity", has_sensitivity_dimension(l) ? l.sensitivity_names : none);
     compare("constraint names", "constraint", has_multipliers(l) ? l.constraint_names : none);
-    compare("output names", "output", l.output_names);
+    compare("output names", "output", all_output_names(l));
+    compare("body names", "body", has_poses(l) ? l.body_names : none);
     if (link_exists(file, "/states") != has_states(l)) {
       fail(has_states(l) ? "it does not record states" : "it records states");
     }

@@ -77,8 +77,13 @@ std::string broadcast_string(MPI_Comm comm, std::string s) {
 double estimate_file_bytes(const io::RunLayout& l) {
   const double T = static_cast<double>(l.times.size()), n = static_cast<double>(l.state_names.size());
   const double S = l.record_sensitivities ? static_cast<double>(l.sensitivity_names.size()) : 0.0;
+  const double So = static_cast<double>(l.sensitivity_names.size());
   const double values = static_cast<double>(l.parameter_names.size()) + n + (l.record_states ? T * n : 0.0) +
                         T * n * S + static_cast<double>(l.output_names.size()) * T +
+                        static_cast<double>(l.scalar_output_names.size()) +
+                        static_cast<double>(l.output_sensitivity_names.size()) * T * So +
+                        static_cast<double>(l.scalar_output_sensitivity_names.size()) * So +
+                        (l.record_poses ? T * static_cast<double>(l.body_names.size()) * 7 : 0.0) +
                         static_cast<double>(l.stat_names.size());
   const double labels = l.design_labels ? 3 * 8.0 : 0.0;
   const double per_sample =
@@ -254,6 +259,16 @@ struct Prepared {
       layout.output_names.push_back("position_residual");
       layout.output_names.push_back("velocity_residual");
     }
+    if (const sim::OutputPlan* plan = flags.outputs) {
+      layout.output_names.insert(layout.output_names.end(), plan->series_names.begin(), plan->series_names.end());
+      layout.scalar_output_names = plan->scalar_names;
+      if (!sens.empty()) {
+        layout.output_sensitivity_names = plan->series_names;
+        layout.scalar_output_sensitivity_names = plan->scalar_names;
+      }
+    }
+    for (const auto& b : model.bodies) layout.body_names.push_back(b.name);
+    layout.record_poses = flags.poses;
     layout.constraint_names = model.constraint_row_names;
     layout.stat_names = kStatNames;
     layout.nsamples = design.size();
@@ -455,7 +470,12 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
         outputs.insert(outputs.end(), traj.energy.begin(), traj.energy.end());
         outputs.insert(outputs.end(), traj.position_residual.begin(), traj.position_residual.end());
         outputs.insert(outputs.end(), traj.velocity_residual.begin(), traj.velocity_residual.end());
+        outputs.insert(outputs.end(), traj.outputs.begin(), traj.outputs.end());
         row.outputs = outputs;
+        row.scalar_outputs = traj.scalar_outputs;
+        row.output_sensitivities = traj.output_sensitivities;
+        row.scalar_output_sensitivities = traj.scalar_output_sensitivities;
+        row.poses = traj.poses;
         row.multipliers = traj.multipliers;
         row.stats = stats;
         if (block.count > 0 && i != block.first + block.count) flush_block();

@@ -120,6 +120,10 @@ class KaneProblem final : public OdeProblem {
   double initial_velocity_correction() const { return initial_.velocity_correction; }
   const model::Model& model() const { return model_; }
   const std::vector<InputRef>& sensitivities() const { return sens_; }
+  // The sample's workspaces (values and tangents) and the dynamics options of the integrated
+  // equations, for evaluations at recorded states (sim/output_evaluator.hpp).
+  SampleWorkspaces& workspaces() { return workspaces_; }
+  const dynamics::DynamicsOptions& dynamics_options() const { return dynamics_; }
 
  private:
   // The integrated right-hand side on scalar S, in the workspace given: the multiplier form, or

@@ -155,7 +155,8 @@ constexpr std::pair<std::string_view, RecordItem> kRecordItems[] = {
     {"sensitivities", RecordItem::sensitivities},
     {"multipliers", RecordItem::multipliers},
     {"energy", RecordItem::energy},
-    {"constraint_residual", RecordItem::constraint_residual}};
+    {"constraint_residual", RecordItem::constraint_residual},
+    {"poses", RecordItem::poses}};
 
 void parse_record(const YAML::Node& n, const YamlReader& r, StudySpec& st) {
   st.record = {RecordItem::states, RecordItem::energy};
@@ -170,7 +171,7 @@ void parse_record(const YAML::Node& n, const YamlReader& r, StudySpec& st) {
     const std::string v = r.read_string(n[i], key);
     const auto* item = std::find_if(std::begin(kRecordItems), std::end(kRecordItems), [&](const auto& k) { return k.first == v; });
     if (item == std::end(kRecordItems))
-      r.fail(n[i], key, "unknown record item '" + v + "'; items are: states, sensitivities, multipliers, energy, constraint_residual");
+      r.fail(n[i], key, "unknown record item '" + v + "'; items are: states, sensitivities, multipliers, energy, constraint_residual, poses");
     st.record.insert(item->second);
   }
 }
@@ -223,7 +224,7 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
     else st.set_inputs[name] = parse_number(value, "--set " + name);
   }
   const YamlReader r(path);
-  r.check_keys(doc, "", {"kanesens", "scene", "time", "solver", "sampling", "vary", "sensitivities", "record"});
+  r.check_keys(doc, "", {"kanesens", "scene", "time", "solver", "sampling", "vary", "sensitivities", "record", "outputs"});
   const YAML::Node version = r.required(doc, "kanesens", "");
   if (!version.IsScalar() || version.Scalar() != "1") r.fail(version, "kanesens", "unsupported schema version; this kanesens reads version 1");
   const YAML::Node scene = r.required(doc, "scene", "");
@@ -254,6 +255,7 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
     }
   }
   parse_record(doc["record"], r, st);
+  st.outputs = parse_outputs(doc["outputs"], r);
   if (const YAML::Node s = doc["sampling"]; s && !s.IsNull()) {
     st.sampling = parse_sampling(s, {path, 0, 0});
   } else {

@@ -12,13 +12,14 @@
 #include "model/scene/scene_spec.hpp"
 #include "sim/constraint_options.hpp"
 #include "sim/solve/solver_options.hpp"
+#include "study/output_spec.hpp"
 #include "study/sampling_spec.hpp"
 #include "study/varied_input.hpp"
 
 namespace kanesens::study {
 
 // What a study records per output time (the `record:` list).
-enum class RecordItem { states, sensitivities, multipliers, energy, constraint_residual };
+enum class RecordItem { states, sensitivities, multipliers, energy, constraint_residual, poses };
 std::string_view record_item_name(RecordItem item);
 
 struct StudySpec {
@@ -32,6 +33,7 @@ struct StudySpec {
   std::vector<SourceLocation> sensitivity_where;  // where each was written
   std::set<RecordItem> record;                    // default: states, energy (+ sensitivities)
   SourceLocation record_where;
+  std::vector<OutputSpec> outputs;                // `outputs:`, in file order
   // `sampling:`; without one, the nominal sample (mc, 1 run; where = the file).
   SamplingSpec sampling;
   std::vector<VariedInput> vary;        // `vary:`, in file order

@@ -62,6 +62,15 @@ def check_xarray(path):
     assert "steps" in st and st["steps"].dims == ("sample",)
     out = xr.open_dataset(path, engine="h5netcdf", group="outputs")
     assert out["energy"].dims == ("sample", "time")
+    # The study's outputs: series (sample, time), scalars (sample), and their sensitivities.
+    assert out["tip.y"].dims == ("sample", "time") and out["work"].dims == ("sample",)
+    assert np.array_equal(out["tip_y_end"].values, out["tip.y"].isel(time=-1).values)
+    sens = xr.open_dataset(path, engine="h5netcdf", group="output_sensitivities")
+    assert sens["tip.y"].dims == ("sample", "time", "sensitivity"), sens["tip.y"].dims
+    assert sens["work"].dims == ("sample", "sensitivity")
+    assert np.all(np.isfinite(sens["work"].values))
+    assert ds["poses"].dims == ("sample", "time", "body", "pose"), ds["poses"].dims
+    assert list(ds["body"].values) == ["rod1", "rod2"] and list(ds["pose"].values) == ["x", "y", "z", "qw", "qx", "qy", "qz"]
     print(f"xarray: {path} ok, dims {dict(ds.sizes)}")
 
 

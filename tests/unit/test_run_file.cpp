@@ -53,7 +53,7 @@ struct Row {
     for (auto* v : {&p, &x0, &states, &lambda, &sens, &outputs, &stats}) {
       for (std::size_t k = 0; k < v->size(); ++k) (*v)[k] = 100.0 * i + k;
     }
-    return {i, status, status == 1 ? "" : "failed", p, x0, states, lambda, sens, outputs, stats};
+    return {i, status, status == 1 ? "" : "failed", p, x0, states, lambda, sens, outputs, stats, {}, {}, {}, {}};
   }
 };
 
@@ -427,6 +427,64 @@ TEST_F(RunFileTest, ResumeRefusesFilesWhoseDatasetsAreNotWhatItWrites) {
     }
     EXPECT_EQ(file_bytes(path_), before) << says;
   }
+}
+
+TEST_F(RunFileTest, StudyOutputsTheirSensitivitiesAndPoses) {
+  RunLayout l = small_layout();
+  l.output_names = {"energy", "tip.x"};
+  l.scalar_output_names = {"work"};
+  l.output_sensitivity_names = {"tip.x"};
+  l.scalar_output_sensitivity_names = {"work"};
+  l.body_names = {"rod"};
+  l.record_poses = true;
+  // Written as a block of two samples (the ensemble's path) and as one row.
+  std::vector<double> outputs(2 * 3), scalars{1.5}, output_sens(3 * 1), scalar_sens{2.5}, poses(3 * 1 * 7), stats{7};
+  for (std::size_t k = 0; k < outputs.size(); ++k) outputs[k] = 10.0 + k;
+  for (std::size_t k = 0; k < output_sens.size(); ++k) output_sens[k] = 20.0 + k;
+  for (std::size_t k = 0; k < poses.size(); ++k) poses[k] = 30.0 + k;
+  Row r;
+  SampleBlock block;
+  for (std::int64_t i = 0; i < 2; ++i) {
+    SampleRow row = r.row(i, 1);
+    row.outputs = outputs;
+    row.stats = stats;
+    row.scalar_outputs = scalars;
+    row.output_sensitivities = output_sens;
+    row.scalar_output_sensitivities = scalar_sens;
+    row.poses = poses;
+    block.append(row);
+  }
+  {
+    RunFile file = RunFile::create(MPI_COMM_WORLD, path_, l, false);
+    file.write_samples(block);
+    SampleRow row = r.row(2, 1);
+    row.outputs = outputs;
+    row.scalar_outputs = scalars;
+    row.output_sensitivities = output_sens;
+    row.scalar_output_sensitivities = scalar_sens;
+    row.poses = poses;
+    file.write_sample(row);
+    SampleRow missing = row;
+    missing.poses = {};
+    EXPECT_THROW(file.write_sample(missing), std::invalid_argument);
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(read_doubles(path_, "/outputs/tip.x")[i * 3 + 2], 15.0);
+    EXPECT_EQ(read_doubles(path_, "/outputs/work")[i], 1.5);
+    EXPECT_EQ(read_doubles(path_, "/output_sensitivities/tip.x")[i * 3 + 1], 21.0);  // (sample, time, sens)
+    EXPECT_EQ(read_doubles(path_, "/output_sensitivities/work")[i], 2.5);
+    EXPECT_EQ(read_doubles(path_, "/poses")[i * 21 + 7 * 2 + 6], 30.0 + 20);  // (sample, time, body, pose)
+  }
+  File file(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "H5Fopen");
+  Dataset pose(H5Dopen2(file.get(), "/pose", H5P_DEFAULT), "H5Dopen2");
+  EXPECT_EQ(read_strings(pose.get(), "/pose"), (std::vector<std::string>{"x", "y", "z", "qw", "qx", "qy", "qz"}));
+  Dataset output(H5Dopen2(file.get(), "/output", H5P_DEFAULT), "H5Dopen2");
+  EXPECT_EQ(read_strings(output.get(), "/output"), (std::vector<std::string>{"energy", "tip.x", "work"}));
+  RunLayout other = l;
+  other.scalar_output_names = {"work2"};
+  other.scalar_output_sensitivity_names = {"work2"};
+  EXPECT_THROW(RunFile::open_for_resume(MPI_COMM_WORLD, path_, other), std::runtime_error);
+  EXPECT_NO_THROW(RunFile::open_for_resume(MPI_COMM_WORLD, path_, l));
 }
 
 }  // namespace

@@ -10,13 +10,6 @@ std::string format_time(double t) {
   return buf;
 }
 
-namespace {
-
-CallbackData& data_of(void* user_data) {
-  return *static_cast<CallbackData*>(user_data);
-}
-
-}  // namespace
 
 int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept {
   CallbackData& cb = data_of(user_data);

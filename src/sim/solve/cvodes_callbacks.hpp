@@ -22,6 +22,10 @@ std::string format_time(double t);
 // the integrator, whose address is stable.
 struct CallbackData {
   OdeProblem* problem = nullptr;
+  OdeQuadrature* quadrature = nullptr;  // integrals computed alongside, or none
+  int nquad = 0;
+  std::vector<const double*> quadrature_s;  // the quadrature sensitivity call's pointers (ns each)
+  std::vector<double*> quadrature_sdot;
   int n = 0;
   long recoverable = 0;          // callbacks that returned +1
   std::string callback_message;  // last callback failure (exception or non-finite output)
@@ -77,6 +81,10 @@ struct CallbackData {
     return 0;
   }
 };
+
+inline CallbackData& data_of(void* user_data) {
+  return *static_cast<CallbackData*>(user_data);
+}
 
 int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept;
 int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user_data, N_Vector, N_Vector,

@@ -28,25 +28,35 @@ struct CallbackError {
   std::string what;
 };
 
-std::size_t stacked_size(const OdeProblem& problem, int ns) {
-  return static_cast<std::size_t>(problem.size()) * (1 + static_cast<std::size_t>(ns));
+std::size_t stacked_size(const OdeProblem& problem, int ns, const OdeQuadrature* quad) {
+  const std::size_t blocks = 1 + static_cast<std::size_t>(ns);
+  return (static_cast<std::size_t>(problem.size()) + (quad ? static_cast<std::size_t>(quad->size()) : 0)) * blocks;
 }
 
-// The stacked state z = [y; s_0; ...; s_{ns−1}] (blocks of n) and everything one step needs,
-// allocated once per integration.
+// The stacked state z = [y; s_0; ...; s_{ns−1}; Q; QS_0; ...; QS_{ns−1}] (blocks of n, then of
+// nq, the quadratures) and everything one step needs, allocated once per integration.
 class Stepper {
  public:
-  Stepper(OdeProblem& problem, const SolverOptions& o, int ns)
-      : z(stacked_size(problem, ns)), z_new(z.size()), problem_(problem), n_(static_cast<std::size_t>(problem.size())),
-        ns_(ns), N_(z.size()), stage_(N_), atol_(N_), controlled_(N_), k_(dop853::stages + 1, std::vector<double>(N_)) {
+  Stepper(OdeProblem& problem, const SolverOptions& o, int ns, OdeQuadrature* quad)
+      : z(stacked_size(problem, ns, quad)), z_new(z.size()), problem_(problem), quad_(quad),
+        n_(static_cast<std::size_t>(problem.size())), nq_(quad ? static_cast<std::size_t>(quad->size()) : 0), ns_(ns),
+        N_(z.size()), stage_(N_), atol_(N_), controlled_(N_), k_(dop853::stages + 1, std::vector<double>(N_)) {
     for (std::size_t j = 0; j < n_; ++j) atol_[j] = o.atol_per_state.empty() ? o.atol : o.atol_per_state[j];
     std::fill(controlled_.begin(), controlled_.begin() + static_cast<std::ptrdiff_t>(n_), 1);
+    const std::size_t q0 = quadrature_offset();
+    for (std::size_t j = 0; j < nq_; ++j) {  // the integrals: error-controlled like the states
+      atol_[q0 + j] = o.atol;
+      controlled_[q0 + j] = 1;
+    }
     std::vector<double> pbar = problem.sensitivity_scales();
     for (int i = 0; i < ns; ++i) {
       const double scale = pbar.empty() ? 1.0 : std::abs(pbar[static_cast<std::size_t>(i)]);
-      for (std::size_t j = 0; j < n_; ++j) {
-        const std::size_t r = n_ * (1 + static_cast<std::size_t>(i)) + j;
-        atol_[r] = o.sens_atol ? *o.sens_atol : atol_[j] / (scale > 0 ? scale : 1.0);
+      for (std::size_t j = 0; j < n_ + nq_; ++j) {
+        const bool integral = j >= n_;
+        const std::size_t r = integral ? q0 + nq_ * (1 + static_cast<std::size_t>(i)) + (j - n_)
+                                       : n_ * (1 + static_cast<std::size_t>(i)) + j;
+        const double base = integral ? o.atol : atol_[j];
+        atol_[r] = o.sens_atol ? *o.sens_atol : base / (scale > 0 ? scale : 1.0);
         controlled_[r] = o.sens_error_control ? 1 : 0;
       }
     }
@@ -58,6 +68,7 @@ class Stepper {
 
   std::size_t size() const { return N_; }
   std::size_t states() const { return n_; }
+  std::size_t quadrature_offset() const { return n_ * (1 + static_cast<std::size_t>(ns_)); }
 
   // dz = f(t, z): the ODE, then each sensitivity's right-hand side along it.
   // A RecoverableError leaves dz NaN: the trial step is rejected and retried smaller.
@@ -71,6 +82,15 @@ class Stepper {
       problem_.rhs_with_sensitivities(t, zz.data(), ns_, s_in_.data(), dz.data(), s_out_.data());
       ++stats.rhs_evals;
       stats.sens_rhs_evals += ns_;
+      if (quad_) {
+        const std::size_t q0 = quadrature_offset();
+        quad_->rhs(t, zz.data(), dz.data() + q0);
+        if (ns_ > 0) {
+          for (int i = 0; i < ns_; ++i)
+            qs_out_[static_cast<std::size_t>(i)] = dz.data() + q0 + nq_ * (1 + static_cast<std::size_t>(i));
+          quad_->sensitivity_rhs(t, zz.data(), ns_, s_in_.data(), qs_out_.data());
+        }
+      }
     } catch (const RecoverableError& e) {
       std::fill(dz.begin(), dz.end(), std::numeric_limits<double>::quiet_NaN());
       recoverable_message = e.what();
@@ -184,6 +204,13 @@ class Stepper {
     ++stats.repartitions;
     f(t, z, k_[0], stats);
     return true;
+
+  // Hands Q and QS at output k to the quadrature's record().
+  void record_quadrature(int k, double t) {
+    if (!quad_) return;
+    const std::size_t q0 = quadrature_offset();
+    for (int i = 0; i < ns_; ++i) qs_pointers_[static_cast<std::size_t>(i)] = z.data() + q0 + nq_ * (1 + static_cast<std::size_t>(i));
+    quad_->record(k, t, z.data() + q0, ns_ ? qs_pointers_.data() : nullptr);
   }
   std::vector<double>& first_stage() { return k_[0]; }
 
@@ -193,7 +220,8 @@ class Stepper {
 
  private:
   OdeProblem& problem_;
-  std::size_t n_;
+  OdeQuadrature* quad_;
+  std::size_t n_, nq_;
   int ns_;
   std::size_t N_;
   std::vector<double> stage_, atol_;
@@ -204,6 +232,8 @@ class Stepper {
   std::vector<const double*> s_in_ = std::vector<const double*>(static_cast<std::size_t>(ns_));  // f's arguments
   std::vector<double*> s_out_ = std::vector<double*>(static_cast<std::size_t>(ns_));
   std::vector<double*> s_step_;
+  std::vector<double*> qs_out_ = std::vector<double*>(static_cast<std::size_t>(ns_));  // quadrature call
+  std::vector<const double*> qs_pointers_ = std::vector<const double*>(static_cast<std::size_t>(ns_));
 };
 
 std::string at_time(const char* what, double t) {
@@ -215,7 +245,7 @@ std::string at_time(const char* what, double t) {
 }  // namespace
 
 IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& options,
-                                   std::span<const double> times, const RecordFn& record) {
+                                   std::span<const double> times, const RecordFn& record, OdeQuadrature* quad) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   options.validate(problem.size());
@@ -225,7 +255,7 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
     throw std::invalid_argument("solver.method = dop853 needs the exact sensitivity right-hand side "
                                 "(solver.sensitivity.rhs: exact)");
 
-  Stepper st(problem, options, ns);
+  Stepper st(problem, options, ns, quad);
   const std::size_t n = st.states();
   problem.initial_state(st.z.data());
   for (int i = 0; i < ns; ++i) problem.initial_sensitivity(i, st.z.data() + n * (1 + static_cast<std::size_t>(i)));
@@ -244,6 +274,7 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
   };
 
   record(0, times[0], st.z.data(), st.sensitivities());
+  st.record_quadrature(0, times[0]);
   r.outputs_recorded = 1;
   double t = times[0];
   const double h_max = options.max_step > 0 ? options.max_step : times.back() - times.front();
@@ -298,6 +329,7 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
         if (checking && t < times.back()) st.after_step(t, r.stats);
       }
       record(static_cast<int>(k), t_out, st.z.data(), st.sensitivities());
+      st.record_quadrature(static_cast<int>(k), t_out);
       ++r.outputs_recorded;
     }
   } catch (const CallbackError& e) {

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "sim/solve/cvodes_callbacks.hpp"
+#include "sim/solve/cvodes_quadrature.hpp"
 #include "sim/solve/sundials_handles.hpp"
 
 namespace kanesens::sim {
@@ -57,6 +58,7 @@ struct Integrator::Impl {
   bool built = false;
   int n = 0;
   int ns = 0;
+  int nquad = 0;
   bool projection = false;
 
   // Declared in creation order; release() frees them in reverse (cvode_mem first).
@@ -69,6 +71,7 @@ struct Integrator::Impl {
   NVectorArray yS;
   NonlinearSolverPtr NLS_sens;
   CvodeMemPtr mem;
+  detail::CvodesQuadrature quadrature;  // after mem: its vectors are only CVODES's templates
 
   NVectorPtr y_out;                       // output interpolated between steps (step-by-step runs)
   NVectorArray yS_out;
@@ -81,6 +84,7 @@ struct Integrator::Impl {
   std::vector<double> dq_p_saved;         // its values at the start of the run
 
   void release() noexcept {
+    quadrature.release();
     mem.reset();
     yS_out = NVectorArray();
     y_out.reset();
@@ -161,7 +165,7 @@ void Integrator::Impl::check_problem(OdeProblem& problem, std::span<const double
   }
 }
 
-void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, double t0) {
+void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int n_quad, double t0) {
   release();
   const SolverOptions& o = options;
   ctx = make_context();
@@ -282,12 +286,15 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, dou
   }
   n = n_states;
   ns = n_sens;
+  nquad = n_quad;
   projection = with_projection;
   built = true;
 }
 
-void Integrator::Impl::reinit(OdeProblem& problem, double t0, double t_end) {
+void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, double t0, double t_end) {
   cb.reset(&problem, n);
+  cb.quadrature = quad;
+  cb.nquad = nquad;
   problem.initial_state(N_VGetArrayPointer(y.get()));
   check_flag(CVodeReInit(mem.get(), t0, y.get()), "CVodeReInit");
   dq_p = nullptr;
@@ -312,6 +319,7 @@ void Integrator::Impl::reinit(OdeProblem& problem, double t0, double t_end) {
                                   plist.empty() ? nullptr : plist.data()),
                "CVodeSetSensParams");
   }
+  quadrature.reinit(mem.get());
   // Never step past the last output (a model's forcing may be defined only up to t_end).
   check_flag(CVodeSetStopTime(mem.get(), t_end), "CVodeSetStopTime");
 }
@@ -411,9 +419,10 @@ const SolverOptions& Integrator::options() const {
 }
 
 IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const double> times,
-                                        const RecordFn& record) {
+                                        const RecordFn& record, OdeQuadrature* quad) {
   // The explicit method has no CVODES objects; it shares the options, result and record().
-  if (impl_->options.method == Method::dop853) return integrate_dop853(problem, impl_->options, times, record);
+  if (impl_->options.method == Method::dop853)
+    return integrate_dop853(problem, impl_->options, times, record, quad);
   const auto start = std::chrono::steady_clock::now();
   Impl& im = *impl_;
   im.check_problem(problem, times);
@@ -421,10 +430,11 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   const int n_states = problem.size();
   const int n_sens = problem.num_sensitivities();
   const bool with_projection = problem.has_projection();
-  if (!im.built || im.n != n_states || im.ns != n_sens || im.projection != with_projection) {
-    im.build(n_states, n_sens, with_projection, times.front());
+  const int n_quad = quad ? quad->size() : 0;
+  if (!im.built || im.n != n_states || im.ns != n_sens || im.projection != with_projection || im.nquad != n_quad) {
+    im.build(n_states, n_sens, with_projection, n_quad, times.front());
   }
-  im.reinit(problem, times.front(), times.back());
+  im.reinit(problem, quad, times.front(), times.back());
 
   // Restore CVODES's DQ perturbations of the problem's parameters however we leave.
   struct RestoreGuard {
@@ -438,6 +448,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   const double* const* s = n_sens > 0 ? im.s_pointers.data() : nullptr;
 
   record(0, times[0], y, s);
+  if (quad) im.quadrature.record(m, *quad, 0, times[0]);
   result.outputs_recorded = 1;
   result.status = 1;
   result.t_fail = std::numeric_limits<double>::quiet_NaN();
@@ -477,6 +488,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
     }
     if (n_sens > 0) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
     record(static_cast<int>(k), tout, y, s);
+    if (quad) im.quadrature.record(m, *quad, static_cast<int>(k), tout);
     ++result.outputs_recorded;
   }
 
@@ -506,9 +518,9 @@ SolverStats& SolverStats::operator+=(const SolverStats& o) {
 }
 
 IntegrationResult integrate(OdeProblem& problem, const SolverOptions& options,
-                            std::span<const double> output_times, const RecordFn& record) {
+                            std::span<const double> output_times, const RecordFn& record, OdeQuadrature* quad) {
   Integrator integrator(options);
-  return integrator.integrate(problem, output_times, record);
+  return integrator.integrate(problem, output_times, record, quad);
 }
 
 std::string sundials_version() {

@@ -86,9 +86,11 @@ class Integrator {
   Integrator(const Integrator&) = delete;
   Integrator& operator=(const Integrator&) = delete;
 
-  // output_times: at least one, strictly increasing, finite. See the file comment.
+  // output_times: at least one, strictly increasing, finite. See the file comment. `quadrature`
+  // (optional): integrals computed alongside (ode_problem.hpp), handed to its record() after each
+  // record() call.
   IntegrationResult integrate(OdeProblem& problem, std::span<const double> output_times,
-                              const RecordFn& record);
+                              const RecordFn& record, OdeQuadrature* quadrature = nullptr);
 
   const SolverOptions& options() const;
 
@@ -99,7 +101,8 @@ class Integrator {
 
 // One-shot convenience: Integrator(options).integrate(problem, output_times, record).
 IntegrationResult integrate(OdeProblem& problem, const SolverOptions& options,
-                            std::span<const double> output_times, const RecordFn& record);
+                            std::span<const double> output_times, const RecordFn& record,
+                            OdeQuadrature* quadrature = nullptr);
 
 // "6.4.1": the SUNDIALS this build links.
 std::string sundials_version();

@@ -118,4 +118,24 @@ class OdeProblem {
   }
 };
 
+// Integrals computed alongside an OdeProblem (quadratures): Q(t) = ∫_{t0}^{t} g(τ, y(τ)) dτ with
+// nq = size() components, and, when the problem has forward sensitivities, their sensitivities
+// QS_i(t) = ∫ (∂g/∂y s_i + ∂g/∂p_i) dτ. CVODES integrates them as quadratures (CVodeQuadInit,
+// CVodeQuadSensInit), DOP853 as extra components stacked after [y; s]; both include them in the
+// local error test with the solver's rtol and atol (QS: the sensitivity tolerances and
+// error-control setting). Q(t0) = 0, QS_i(t0) = 0. The hot-path rules of OdeProblem apply: rhs
+// and sensitivity_rhs neither allocate nor keep the pointers; they may throw (the sample fails).
+class OdeQuadrature {
+ public:
+  virtual ~OdeQuadrature() = default;
+  virtual int size() const = 0;
+  // qdot (size()) = g(t, y); y is the problem's state (problem.size()).
+  virtual void rhs(double t, const double* y, double* qdot) = 0;
+  // qsdot[i] (size()) = ∂g/∂y s[i] + ∂g/∂p_i for i < ns (s[i]: the problem's sensitivity i).
+  virtual void sensitivity_rhs(double t, const double* y, int ns, const double* const* s, double* const* qsdot) = 0;
+  // At output k (the same calls as the RecordFn, after it): Q(t) and QS_i(t) (qs = nullptr when
+  // there are no sensitivities). The pointers are valid only during the call.
+  virtual void record(int k, double t, const double* q, const double* const* qs) = 0;
+};
+
 }  // namespace kanesens::sim
