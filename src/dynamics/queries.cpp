@@ -3,17 +3,20 @@
 
 #include <cmath>
 
+#include "dynamics/equations.hpp"
 #include "dynamics/force_elements.hpp"
+#include "dynamics/frames.hpp"
 #include "math/dual.hpp"
 
 namespace kanesens::dynamics {
 
 using math::cross_force;
-using math::wrench_at_origin;
+using math::force_to_parent;
+using math::wrench_at;
 
 namespace {
 
-// (ω_z, v_x, v_y) → the 6-D motion or force vector it stands for (the other components are 0).
+// (ω_z, v_x, v_y) → the 6-D motion vector it stands for (the other components are 0).
 template <class S>
 Vec6<S> lift(const PVec<S>& p) {
   Vec6<S> v;
@@ -21,16 +24,28 @@ Vec6<S> lift(const PVec<S>& p) {
   return v;
 }
 
-// Spatial acceleration (α, a_O) of body b at O: the bias (u̇ = 0) plus Σ_k s_k u̇_k.
+// Spatial acceleration (α, a_Q) of body b at its reference point Q_b: the bias (u̇ = 0) plus
+// Σ_k s_k u̇_k, each speed's partial velocity (at the Q of its joint's child: (Ω_k, 0) for a
+// rotation, (0, L_k) for a translation) carried to Q_b joint by joint.
 template <class S>
 Vec6<S> body_acceleration(const Model& m, const Workspace<S>& ws, int b) {
-  if (m.evaluate_planar()) {
-    PVec<S> a = ws.bias_planar[b];
-    for (int k : m.ancestor_speeds[b]) a += ws.partial_planar[k] * ws.udot[k];
-    return lift(a);
+  const bool planar = m.evaluate_planar();
+  Vec6<S> a = planar ? lift(ws.bias_planar[b]) : ws.bias_acceleration[b];
+  Vec3<S> o = Vec3<S>::Zero();  // Q_b − Q of the current joint's child
+  for (int x = b; x >= 0; x = m.bodies[x].parent) {
+    const Joint& J = m.joints[m.bodies[x].joint];
+    for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) {
+      const Vec6<S> s = planar ? lift(ws.partial_planar[k]) : ws.partial[k];
+      const S ud = ws.udot[k];
+      if (J.speeds[k - J.u_offset].rotation) {
+        a.template head<3>() += s.template head<3>() * ud;
+        a.template tail<3>() += s.template head<3>().cross(o) * ud;
+      } else {
+        a.template tail<3>() += s.template tail<3>() * ud;
+      }
+    }
+    o += ws.joint_offset[m.bodies[x].joint];
   }
-  Vec6<S> a = ws.bias_acceleration[b];
-  for (int k : m.ancestor_speeds[b]) a += ws.partial[k] * ws.udot[k];
   return a;
 }
 
@@ -39,19 +54,15 @@ Vec3<S> slot3(const Workspace<S>& ws, const Slot3& s) {
   return {ws.values[s[0]], ws.values[s[1]], ws.values[s[2]]};
 }
 
-// Adds the constraint forces λ to the per-body external wrenches (at O) in `ext`, indexed by the
-// body's joint.
+// Adds the constraint forces λ to the per-body external wrenches (at the body's Q) in `ext`,
+// indexed by the body's joint.
 template <class S>
 void add_constraint_wrenches(const Model& m, const Workspace<S>& ws, std::vector<JointLoad<S>>& ext) {
-  auto add = [&](int b, const Vec3<S>& p, const Vec3<S>& F) {
-    if (b < 0) return;
-    JointLoad<S>& e = ext[m.bodies[b].joint];
+  auto add = [&](const BodyPoint<S>& p, const Vec3<S>& F) {
+    if (p.body < 0) return;
+    JointLoad<S>& e = ext[m.bodies[p.body].joint];
     e.force += F;
-    e.moment += p.cross(F);
-  };
-  auto point = [&](int b, const Slot3& r) {
-    const Vec3<S> rb = slot3(ws, r);
-    return b < 0 ? rb : Vec3<S>(ws.com[b] + ws.R[b] * rb);
+    e.moment += p.offset.cross(F);
   };
   for (const Constraint& c : m.constraints) {
     const int r0 = c.row_offset;
@@ -59,28 +70,33 @@ void add_constraint_wrenches(const Model& m, const Workspace<S>& ws, std::vector
       case Constraint::Kind::coincident: {
         Vec3<S> F = Vec3<S>::Zero();
         for (int i = 0; i < c.nrows; ++i) F[c.components[i]] = ws.multipliers[r0 + i];
-        add(c.body_a, point(c.body_a, c.point_a), F);
-        add(c.body_b, point(c.body_b, c.point_b), (-F).eval());
+        add(body_point(m, ws, c.body_a, slot3(ws, c.point_a)), F);
+        add(body_point(m, ws, c.body_b, slot3(ws, c.point_b)), (-F).eval());
         break;
       }
       case Constraint::Kind::distance: {
-        const Vec3<S> pa = point(c.body_a, c.point_a), pb = point(c.body_b, c.point_b);
+        const BodyPoint<S> pa = body_point(m, ws, c.body_a, slot3(ws, c.point_a));
+        const BodyPoint<S> pb = body_point(m, ws, c.body_b, slot3(ws, c.point_b));
         using std::sqrt;
-        const Vec3<S> d = pb - pa;
+        const Vec3<S> d = separation(pa, pb);
         const Vec3<S> F = ws.multipliers[r0] * d / sqrt(d.squaredNorm());
-        add(c.body_b, pb, F);
-        add(c.body_a, pa, (-F).eval());
+        add(pb, F);
+        add(pa, (-F).eval());
         break;
       }
       case Constraint::Kind::rolling: {
-        // The contact point as dynamics/constraints.cpp defines it: c − r ŵ, w = n − (n·a) a.
+        // The contact point as dynamics/constraints.cpp defines it: c − r ŵ, w = n − (n·a) a;
+        // λ in the plane's basis (t1, t2, n).
         using std::sqrt;
         const int b = c.body;
         const Vec3<S> a = (ws.R[b] * slot3(ws, c.axis)).normalized();
         const Vec3<S> n = slot3(ws, c.normal).normalized();
         const Vec3<S> w = n - n.dot(a) * a;
-        const Vec3<S> P = ws.com[b] - ws.values[c.radius] * w / sqrt(w.squaredNorm());
-        add(b, P, Vec3<S>(ws.multipliers[r0], ws.multipliers[r0 + 1], ws.multipliers[r0 + 2]));
+        BodyPoint<S> P = body_point(m, ws, b, Vec3<S>::Zero().eval());
+        P.offset -= ws.values[c.radius] * w / sqrt(w.squaredNorm());
+        Vec3<S> t1, t2;
+        rolling_plane_basis(n, t1, t2);
+        add(P, (ws.multipliers[r0] * t1 + ws.multipliers[r0 + 1] * t2 + ws.multipliers[r0 + 2] * n).eval());
         break;
       }
       case Constraint::Kind::coupler:
@@ -93,8 +109,8 @@ void add_constraint_wrenches(const Model& m, const Workspace<S>& ws, std::vector
 }  // namespace
 
 template <class S>
-Vec3<S> body_position(const Model&, const Workspace<S>& ws, int b) {
-  return ws.com[b];
+Vec3<S> body_position(const Model& m, const Workspace<S>& ws, int b) {
+  return world_point(m, ws, b, Vec3<S>::Zero().eval());
 }
 
 template <class S>
@@ -130,8 +146,8 @@ Eigen::Matrix<S, 4, 1> rotation_quaternion(const Mat3<S>& R) {
 }
 
 template <class S>
-Vec3<S> point_position(const Model&, const Workspace<S>& ws, int b, const Vec3<S>& r) {
-  return ws.com[b] + ws.R[b] * r;
+Vec3<S> point_position(const Model& m, const Workspace<S>& ws, int b, const Vec3<S>& r) {
+  return world_point(m, ws, b, r);
 }
 
 template <class S>
@@ -140,9 +156,8 @@ Vec3<S> angular_velocity(const Model&, const Workspace<S>& ws, int b) {
 }
 
 template <class S>
-Vec3<S> point_velocity(const Model&, const Workspace<S>& ws, int b, const Vec3<S>& r) {
-  const Vec3<S> p = ws.com[b] + ws.R[b] * r;
-  return ws.velocity[b].template tail<3>() + ws.velocity[b].template head<3>().cross(p);
+Vec3<S> point_velocity(const Model& m, const Workspace<S>& ws, int b, const Vec3<S>& r) {
+  return velocity_of(ws, body_point(m, ws, b, r));
 }
 
 template <class S>
@@ -152,24 +167,24 @@ Vec3<S> angular_acceleration(const Model& m, const Workspace<S>& ws, int b) {
 
 template <class S>
 Vec3<S> point_acceleration(const Model& m, const Workspace<S>& ws, int b, const Vec3<S>& r) {
-  // a_P = a_O + α × p + ω × v_P, (α, a_O) the spatial acceleration at the world origin.
+  // a_P = a_Q + α × o + ω × v_P, (α, a_Q) the spatial acceleration at Q_b, o = P − Q_b.
   const Vec6<S> a = body_acceleration(m, ws, b);
-  const Vec3<S> p = ws.com[b] + ws.R[b] * r;
+  const Vec3<S> o = point_offset(ws, b, r);
   const Vec3<S> w = ws.velocity[b].template head<3>();
-  const Vec3<S> v = ws.velocity[b].template tail<3>() + w.cross(p);
-  return a.template tail<3>() + a.template head<3>().cross(p) + w.cross(v);
+  const Vec3<S> v = ws.velocity[b].template tail<3>() + w.cross(o);
+  return a.template tail<3>() + a.template head<3>().cross(o) + w.cross(v);
 }
 
 template <class S>
 void joint_loads(const Model& m, const Workspace<S>& ws, std::vector<JointLoad<S>>& loads) {
-  // Per body (stored at its joint): external forces first, as (force, moment about O).
+  // Per body (stored at its joint): external forces first, as (force, moment about Q_b).
   loads.resize(m.joints.size());
   for (JointLoad<S>& l : loads) {
     l.force.setZero();
     l.moment.setZero();
   }
   for (int b = 0; b < m.nbody(); ++b) {
-    const Vec6<S> g = wrench_at_origin<S>(ws.com[b], ws.mass[b] * ws.gravity);
+    const Vec6<S> g = wrench_at<S>(point_offset(ws, b, Vec3<S>::Zero().eval()), (ws.mass[b] * ws.gravity).eval());
     loads[m.bodies[b].joint].moment = g.template head<3>();
     loads[m.bodies[b].joint].force = g.template tail<3>();
   }
@@ -178,40 +193,40 @@ void joint_loads(const Model& m, const Workspace<S>& ws, std::vector<JointLoad<S
     loads[m.bodies[b].joint].force += w.template tail<3>();
   });
   if (m.nconstraint_rows > 0) add_constraint_wrenches(m, ws, loads);
-  // Rate of change of momentum minus the external forces, per body: I a + v ×* I v − f_ext.
+  // Rate of change of momentum minus the external forces, per body, at Q_b: I a + v ×* I v − f_ext.
   for (int b = 0; b < m.nbody(); ++b) {
-    Mat3<S> inertia_world;
-    const math::SpatialInertia<S> I =
-        math::body_spatial_inertia<S>(ws.mass[b], ws.com[b], ws.R[b], ws.inertia_body[b], inertia_world);
+    math::SpatialInertia<S> I;
+    math::rotate_inertia<S>(ws.inertia_local[b], ws.R[b], I);
     const Vec6<S>& v = ws.velocity[b];
     const Vec6<S> h = I * body_acceleration(m, ws, b) + cross_force<S>(v, I * v);
     JointLoad<S>& l = loads[m.bodies[b].joint];
     l.moment = h.template head<3>() - l.moment;
     l.force = h.template tail<3>() - l.force;
   }
-  // Subtree sums, children before parents.
+  // Subtree sums, children before parents, each moved from the child's Q to the parent's
+  // (Q_parent = Q_child − r_J). A joint's load is then about its joint point, the child's Q.
   for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
     const model::Joint& J = m.joints[*it];
     if (J.parent < 0) continue;
-    JointLoad<S>& up = loads[m.bodies[J.parent].joint];
-    up.force += loads[*it].force;
-    up.moment += loads[*it].moment;
+    Vec6<S> f;
+    f << loads[*it].moment, loads[*it].force;
+    const Vec6<S> up = force_to_parent<S>(f, ws.joint_offset[*it]);
+    JointLoad<S>& p = loads[m.bodies[J.parent].joint];
+    p.moment += up.template head<3>();
+    p.force += up.template tail<3>();
   }
-  // Moment about O → about the joint point Q: M_Q = M_O − Q × F.
-  for (std::size_t j = 0; j < m.joints.size(); ++j) loads[j].moment -= ws.joint_point[j].cross(loads[j].force);
 }
 
 template <class S>
 ForceElementState<S> force_element_state(const Model& m, const Workspace<S>& ws, int fi) {
   const model::Force& f = m.forces[fi];
-  Vec3<S> pa, va, pb, vb;
-  detail::point_state(ws, f.body_a, slot3(ws, f.point_a), pa, va);
-  detail::point_state(ws, f.body_b, slot3(ws, f.point_b), pb, vb);
+  const BodyPoint<S> pa = body_point(m, ws, f.body_a, slot3(ws, f.point_a));
+  const BodyPoint<S> pb = body_point(m, ws, f.body_b, slot3(ws, f.point_b));
   using std::sqrt;
-  const Vec3<S> d = pb - pa;
+  const Vec3<S> d = separation(pa, pb);
   const S L = sqrt(d.squaredNorm());
   // Coincident points: no direction, so no rate (the force element applies no force then).
-  const S rate = value_of(L) > 0 ? S((d / L).dot(vb - va)) : S(0);
+  const S rate = value_of(L) > 0 ? S((d / L).dot(velocity_of(ws, pb) - velocity_of(ws, pa))) : S(0);
   return {L, rate, ws.values[f.k] * (L - ws.values[f.rest]) + ws.values[f.c] * rate};
 }
 

@@ -32,7 +32,7 @@ scene:
     - {name: s1, type: spring_damper, body_a: ground, body_b: rod2, k: 1, c: 0, rest: 1}
     - {name: push, type: force, body: rod1, vector: [1, 0, 0]}
   constraints:
-    - {name: pin, type: distance, body_a: ground, body_b: rod2, point_b: [0, "-L/2", 0], length: 2}
+    - {name: pin, type: distance, body_a: ground, point_a: [1, 0, 0], body_b: rod2, point_b: [0, "-L/2", 0], length: 1.8027756377319946}
 time: {end: 2.0, outputs: 5}
 outputs:
 )";

@@ -89,6 +89,25 @@ void CvodesQuadrature::record(void* mem, OdeQuadrature& quadrature, int k, doubl
   quadrature.record(k, t, N_VGetArrayPointer(q_.get()), ns_ > 0 ? qs_pointers_.data() : nullptr);
 }
 
+void CvodesQuadrature::record_interpolated(void* mem, OdeQuadrature& quadrature, int k, double t) {
+  if (nq_ == 0) return;
+  check_flag(CVodeGetQuadDky(mem, t, 0, q_.get()), "CVodeGetQuadDky");
+  for (int i = 0; i < ns_; ++i) check_flag(CVodeGetQuadSensDky1(mem, t, 0, i, qs_[i]), "CVodeGetQuadSensDky1");
+  quadrature.record(k, t, N_VGetArrayPointer(q_.get()), ns_ > 0 ? qs_pointers_.data() : nullptr);
+}
+
+void CvodesQuadrature::save(void* mem, double t) {
+  if (nq_ == 0) return;
+  check_flag(CVodeGetQuadDky(mem, t, 0, q_.get()), "CVodeGetQuadDky");
+  for (int i = 0; i < ns_; ++i) check_flag(CVodeGetQuadSensDky1(mem, t, 0, i, qs_[i]), "CVodeGetQuadSensDky1");
+}
+
+void CvodesQuadrature::restart(void* mem) {
+  if (nq_ == 0) return;
+  check_flag(CVodeQuadReInit(mem, q_.get()), "CVodeQuadReInit");
+  if (ns_ > 0) check_flag(CVodeQuadSensReInit(mem, qs_.get()), "CVodeQuadSensReInit");
+}
+
 void CvodesQuadrature::release() noexcept {
   qs_ = NVectorArray();
   q_.reset();

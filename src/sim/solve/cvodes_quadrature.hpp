@@ -19,6 +19,12 @@ class CvodesQuadrature {
   void reinit(void* mem);
   // At output k: Q and QS at t from CVODES, handed to the quadrature's record().
   void record(void* mem, OdeQuadrature& quadrature, int k, double t);
+  // Step-by-step runs: Q and QS interpolated at output time t (≤ the last step's end).
+  void record_interpolated(void* mem, OdeQuadrature& quadrature, int k, double t);
+  // A restart at t (CVodeReInit): the integrals continue from their values there, which save()
+  // takes before the restart and restart() hands to CVODES after it.
+  void save(void* mem, double t);
+  void restart(void* mem);
   void release() noexcept;
 
  private:

@@ -204,6 +204,7 @@ class Stepper {
     ++stats.repartitions;
     f(t, z, k_[0], stats);
     return true;
+  }
 
   // Hands Q and QS at output k to the quadrature's record().
   void record_quadrature(int k, double t) {

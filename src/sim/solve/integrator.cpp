@@ -103,7 +103,7 @@ struct Integrator::Impl {
   // Steps one at a time, records the outputs each step passes and restarts where the problem
   // changes its coordinates (OdeProblem::after_step). Outputs 1.. into `result`.
   void integrate_stepwise(OdeProblem& problem, std::span<const double> times, const RecordFn& record,
-                          IntegrationResult& result);
+                          OdeQuadrature* quad, IntegrationResult& result);
   void fail(IntegrationResult& result, int flag, double t) const {
     result.status = flag;
     result.t_fail = t;
@@ -111,8 +111,8 @@ struct Integrator::Impl {
     if (!cb.solver_message.empty()) result.message += ": " + cb.solver_message;
     if (!cb.callback_message.empty()) result.message += "; " + cb.callback_message;
   }
-  void build(int n_states, int n_sens, bool with_projection, double t0);
-  void reinit(OdeProblem& problem, double t0, double t_end);
+  void build(int n_states, int n_sens, bool with_projection, int n_quad, double t0);
+  void reinit(OdeProblem& problem, OdeQuadrature* quad, double t0, double t_end);
   void restore_dq_parameters() noexcept {
     for (std::size_t i = 0; i < dq_p_saved.size(); ++i) dq_p[plist[i]] = dq_p_saved[i];
   }
@@ -273,6 +273,9 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
     }
   }
 
+  // → quadratures (and their sensitivities), after SensInit as CVodeQuadSensInit requires
+  quadrature.build(mem.get(), ctx.get(), n_quad, n_sens, o, cb);
+
   y_out = make_serial_vector(n_states, ctx.get());
   N_VConst(0.0, y_out.get());
   if (n_sens > 0) yS_out = NVectorArray(n_sens, y.get());
@@ -325,7 +328,7 @@ void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, double t
 }
 
 void Integrator::Impl::integrate_stepwise(OdeProblem& problem, std::span<const double> times, const RecordFn& record,
-                                          IntegrationResult& result) {
+                                          OdeQuadrature* quad, IntegrationResult& result) {
   void* m = mem.get();
   double* yv = N_VGetArrayPointer(y.get());
   const double* const* s_out = ns > 0 ? s_out_pointers.data() : nullptr;
@@ -352,6 +355,7 @@ void Integrator::Impl::integrate_stepwise(OdeProblem& problem, std::span<const d
       check_flag(CVodeGetDky(m, times[k], 0, y_out.get()), "CVodeGetDky");
       for (int i = 0; i < ns; ++i) check_flag(CVodeGetSensDky1(m, times[k], 0, i, yS_out[i]), "CVodeGetSensDky1");
       record(static_cast<int>(k), times[k], N_VGetArrayPointer(y_out.get()), s_out);
+      if (quad) quadrature.record_interpolated(m, *quad, static_cast<int>(k), times[k]);
       ++result.outputs_recorded;
     }
     if (k == times.size()) break;
@@ -371,9 +375,11 @@ void Integrator::Impl::integrate_stepwise(OdeProblem& problem, std::span<const d
     if (!changed) continue;
     before += collect_stats();
     ++before.repartitions;
+    if (quad) quadrature.save(m, t);
     check_flag(CVodeReInit(m, t, y.get()), "CVodeReInit");
     if (ns > 0)
       check_flag(CVodeSensReInit(m, sensitivity_method_flag(options.sensitivity_method), yS.get()), "CVodeSensReInit");
+    if (quad) quadrature.restart(m);
     check_flag(CVodeSetStopTime(m, times.back()), "CVodeSetStopTime");
   }
   result.stats = before;
@@ -454,7 +460,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   result.t_fail = std::numeric_limits<double>::quiet_NaN();
 
   if (problem.has_step_check()) {
-    im.integrate_stepwise(problem, times, record, result);
+    im.integrate_stepwise(problem, times, record, quad, result);
     const SolverStats earlier = result.stats;
     result.stats = im.collect_stats();
     result.stats += earlier;
