@@ -3,8 +3,10 @@
 //   - eighth order (steps forced constant): halving h divides the error by ≈ 2⁸ = 256, for the
 //     state and the sensitivity; a wrong tableau entry drops the order (this test fails);
 //   - error control: the error falls with rtol and stays within a modest factor of it;
-//   - bookkeeping: every output time is hit exactly, 12 evaluations per step, the Integrator
-//     dispatches method dop853 here;
+//   - dense output: outputs inside steps are interpolated (order 7 extension) as accurately as
+//     the steps, and many output times do not change the steps;
+//   - bookkeeping: every output time is recorded at its time, 12 evaluations per step (+3 per
+//     step with outputs inside), the Integrator dispatches method dop853 here;
 //   - failures as statuses: max_steps (−1), a blow-up in finite time (−3, outputs before it
 //     kept), an RHS that throws (−8, with its message).
 #include <gtest/gtest.h>
@@ -112,6 +114,62 @@ TEST(Dop853, EighthOrderForStatesAndSensitivities) {
   }
 }
 
+// Outputs inside the steps come from the continuous extension: with steps forced constant,
+// its error at those times falls like the method's (order 7 extension, local error O(h⁸)), for
+// the state and the sensitivity; a wrong dense-output coefficient breaks the ratio.
+TEST(Dop853, DenseOutputIsAccurateInsideTheSteps) {
+  Spring p(4.0);
+  std::vector<double> times{0.0};
+  for (int j = 0; j < 10; ++j) times.push_back(0.13 + 0.8 * j);  // never a multiple of h
+  times.push_back(8.0);
+  double prev_x = 0, prev_s = 0;
+  for (double h : {0.4, 0.2, 0.1}) {
+    ks::SolverOptions o = dop853(1e3, 1e3);
+    o.initial_step = h;
+    o.max_step = h;
+    const Trajectory r = run(p, o, times);
+    ASSERT_TRUE(r.result.ok()) << r.result.message;
+    EXPECT_NEAR(static_cast<double>(r.result.stats.steps), 8.0 / h, 0.5);
+    EXPECT_EQ(r.result.stats.dense_outputs, 10);
+    double ex = 0, es = 0;
+    for (std::size_t k = 1; k + 1 < times.size(); ++k) {
+      ex = std::max(ex, std::abs(r.x[k] - p.x(times[k])));
+      es = std::max(es, std::abs(r.s[k] - p.dx_dk(times[k])));
+    }
+    std::printf("h = %.3f: interpolated max |x error| %.3e, max |dx/dk error| %.3e\n", h, ex, es);
+    if (prev_x > 0) {
+      EXPECT_GT(prev_x / ex, 128) << "interpolation order below 7 at h = " << h;
+      EXPECT_GT(prev_s / es, 100) << "interpolated sensitivity order below 6.6 at h = " << h;
+    }
+    prev_x = ex;
+    prev_s = es;
+  }
+}
+
+// The steps follow the error control alone: 1001 output times take the same steps as 2, end
+// on the same bits, and every interpolated output is within the tolerance's error.
+TEST(Dop853, OutputTimesDoNotCutTheSteps) {
+  Spring p(4.0);
+  const ks::SolverOptions o = dop853(1e-9, 1e-11);
+  const Trajectory two = run(p, o, grid(10.0, 2));
+  const std::vector<double> times = grid(10.0, 1001);
+  const Trajectory many = run(p, o, times);
+  ASSERT_TRUE(two.result.ok() && many.result.ok());
+  EXPECT_EQ(many.result.stats.steps, two.result.stats.steps);
+  EXPECT_EQ(many.result.stats.error_test_fails, two.result.stats.error_test_fails);
+  EXPECT_EQ(many.x.back(), two.x.back());
+  EXPECT_EQ(many.s.back(), two.s.back());
+  EXPECT_LT(many.result.stats.steps, 200) << "fewer steps than outputs";
+  double ex = 0, es = 0;
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    ex = std::max(ex, std::abs(many.x[k] - p.x(times[k])));
+    es = std::max(es, std::abs(many.s[k] - p.dx_dk(times[k])));
+  }
+  std::printf("1001 outputs, %ld steps: max |x error| %.2e, max |dx/dk error| %.2e\n", many.result.stats.steps, ex, es);
+  EXPECT_LT(ex, 100 * 1e-9);
+  EXPECT_LT(es, 1000 * 1e-9);
+}
+
 TEST(Dop853, ErrorFallsWithTheTolerance) {
   Spring p(4.0);
   const std::vector<double> times = grid(10.0, 6);
@@ -131,9 +189,11 @@ TEST(Dop853, ErrorFallsWithTheTolerance) {
     EXPECT_LT(e, prev / 10);
     prev = e;
     // 12 evaluations per step attempt (11 stages + f at the new point), plus the first and
-    // the initial-step estimate.
+    // the initial-step estimate, plus 3 per step that holds output times (dense output).
     const long attempts = r.result.stats.steps + r.result.stats.error_test_fails;
-    EXPECT_EQ(r.result.stats.rhs_evals, 12 * attempts + 2);
+    EXPECT_EQ(r.result.stats.rhs_evals, 12 * attempts + 2 + 3 * r.result.stats.dense_outputs);
+    EXPECT_GT(r.result.stats.dense_outputs, 0);
+    EXPECT_LE(r.result.stats.dense_outputs, static_cast<long>(times.size()) - 2);
     EXPECT_LT(r.result.stats.error_test_fails, r.result.stats.steps / 5 + 3) << "the step control rejects too often";
   }
 }

@@ -40,7 +40,8 @@ class Stepper {
   Stepper(OdeProblem& problem, const SolverOptions& o, int ns, OdeQuadrature* quad)
       : z(stacked_size(problem, ns, quad)), z_new(z.size()), problem_(problem), quad_(quad),
         n_(static_cast<std::size_t>(problem.size())), nq_(quad ? static_cast<std::size_t>(quad->size()) : 0), ns_(ns),
-        N_(z.size()), stage_(N_), atol_(N_), controlled_(N_), k_(dop853::stages + 1, std::vector<double>(N_)) {
+        N_(z.size()), stage_(N_), atol_(N_), controlled_(N_), k_(dop853::stages + 1 + dop853::dense_stages, std::vector<double>(N_)),
+        rcont_(8, std::vector<double>(N_)) {
     for (std::size_t j = 0; j < n_; ++j) atol_[j] = o.atol_per_state.empty() ? o.atol : o.atol_per_state[j];
     std::fill(controlled_.begin(), controlled_.begin() + static_cast<std::ptrdiff_t>(n_), 1);
     const std::size_t q0 = quadrature_offset();
@@ -164,6 +165,52 @@ class Stepper {
     return std::abs(h) * e5n / std::sqrt(denominator * n_controlled_);
   }
 
+  // The continuous extension of the accepted trial step from (t, z) to (t + h, z_new), before
+  // accept(): Hairer's order-7 dense output (dop853.f, CONTD8), three more evaluations of f.
+  // It covers the whole stacked state, so sensitivities and quadratures are interpolated by
+  // the same polynomial. Throws CallbackError if an extra stage is not finite (nothing to
+  // retry: the step was accepted).
+  void prepare_dense(double t, double h, SolverStats& stats) {
+    constexpr int S = dop853::stages + 1;  // stages 1..13, the 13th f at the new point
+    for (int i = 0; i < dop853::dense_stages; ++i) {
+      for (std::size_t j = 0; j < N_; ++j) {
+        double s = 0;
+        for (int l = 0; l < S + i; ++l) s += dop853::a_dense[i][l] * k_[static_cast<std::size_t>(l)][j];
+        stage_[j] = z[j] + h * s;
+      }
+      auto& ki = k_[static_cast<std::size_t>(S + i)];
+      f(t + dop853::c_dense[i] * h, stage_, ki, stats);
+      for (double v : ki)
+        if (!std::isfinite(v))
+          throw CallbackError{"the dense output's stage is not finite" +
+                              (recoverable_message.empty() ? std::string() : ": " + recoverable_message)};
+    }
+    for (std::size_t j = 0; j < N_; ++j) {
+      const double dy = z_new[j] - z[j], bspl = h * k_[0][j] - dy;
+      rcont_[0][j] = z[j];
+      rcont_[1][j] = dy;
+      rcont_[2][j] = bspl;
+      rcont_[3][j] = dy - h * k_[dop853::stages][j] - bspl;
+      for (int r = 0; r < 4; ++r) {
+        double s = 0;
+        for (int l = 0; l < S + dop853::dense_stages; ++l) s += dop853::d[r][l] * k_[static_cast<std::size_t>(l)][j];
+        rcont_[static_cast<std::size_t>(4 + r)][j] = h * s;
+      }
+    }
+    dense_t_ = t;
+    dense_h_ = h;
+    ++stats.dense_outputs;
+  }
+
+  // The continuous extension at time tt in the last prepared step, into out (stacked).
+  void interpolate(double tt, std::vector<double>& out) const {
+    const double s = (tt - dense_t_) / dense_h_, s1 = 1 - s;
+    for (std::size_t j = 0; j < N_; ++j) {
+      const auto& c = rcont_;
+      out[j] = c[0][j] + s * (c[1][j] + s1 * (c[2][j] + s * (c[3][j] + s1 * (c[4][j] + s * (c[5][j] + s1 * (c[6][j] + s * c[7][j]))))));
+    }
+  }
+
   // Accepts the trial step: z = z_new, and its f becomes the next first stage (FSAL).
   void accept() {
     z.swap(z_new);
@@ -185,8 +232,10 @@ class Stepper {
     return true;
   }
 
-  const double* const* sensitivities() {
-    for (int i = 0; i < ns_; ++i) s_pointers_[static_cast<std::size_t>(i)] = z.data() + n_ * (1 + static_cast<std::size_t>(i));
+  // Pointers to the sensitivity blocks of a stacked state zz (the current one by default).
+  const double* const* sensitivities(const std::vector<double>* zz = nullptr) {
+    const double* base = (zz ? *zz : z).data();
+    for (int i = 0; i < ns_; ++i) s_pointers_[static_cast<std::size_t>(i)] = base + n_ * (1 + static_cast<std::size_t>(i));
     return ns_ ? s_pointers_.data() : nullptr;
   }
 
@@ -207,11 +256,12 @@ class Stepper {
   }
 
   // Hands Q and QS at output k to the quadrature's record().
-  void record_quadrature(int k, double t) {
+  void record_quadrature(int k, double t, const std::vector<double>* zz = nullptr) {
     if (!quad_) return;
+    const double* base = (zz ? *zz : z).data();
     const std::size_t q0 = quadrature_offset();
-    for (int i = 0; i < ns_; ++i) qs_pointers_[static_cast<std::size_t>(i)] = z.data() + q0 + nq_ * (1 + static_cast<std::size_t>(i));
-    quad_->record(k, t, z.data() + q0, ns_ ? qs_pointers_.data() : nullptr);
+    for (int i = 0; i < ns_; ++i) qs_pointers_[static_cast<std::size_t>(i)] = base + q0 + nq_ * (1 + static_cast<std::size_t>(i));
+    quad_->record(k, t, base + q0, ns_ ? qs_pointers_.data() : nullptr);
   }
   std::vector<double>& first_stage() { return k_[0]; }
 
@@ -228,7 +278,9 @@ class Stepper {
   std::vector<double> stage_, atol_;
   std::vector<unsigned char> controlled_;
   double n_controlled_ = 1, rtol_ = 0;
-  std::vector<std::vector<double>> k_;
+  std::vector<std::vector<double>> k_;  // stages 1..13, then the dense output's 14..16
+  std::vector<std::vector<double>> rcont_;  // the continuous extension's coefficients
+  double dense_t_ = 0, dense_h_ = 1;
   std::vector<const double*> s_pointers_;
   std::vector<const double*> s_in_ = std::vector<const double*>(static_cast<std::size_t>(ns_));  // f's arguments
   std::vector<double*> s_out_ = std::vector<double*>(static_cast<std::size_t>(ns_));
@@ -288,50 +340,61 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
         return finish(status_rhs_failed, t, at_time("DOP853_RHSFUNC_FAIL", t) + ": " + st.recoverable_message);
       h = options.initial_step > 0 ? std::min(options.initial_step, h_max) : st.initial_step(t, h_max, r.stats);
     }
-    for (std::size_t k = 1; k < times.size(); ++k) {
-      const double t_out = times[k];
-      while (t < t_out) {
-        if (r.stats.steps >= options.max_steps)
-          return finish(status_too_much_work, t,
-                        at_time("DOP853_TOO_MUCH_WORK", t) + ": solver.max_steps = " +
-                            std::to_string(options.max_steps) + " steps taken before reaching the output time");
-        // Land on t_out exactly; remember the step the error control wanted.
-        const double h_wanted = h;
-        const bool to_output = t + h >= t_out - 1e-13 * std::abs(t_out);
-        const double h_try = to_output ? t_out - t : h;
-        const double err = st.step(t, h_try, r.stats);
-        if (!(err <= 1.0)) {  // rejected: error too large, or NaN (a non-finite stage)
-          ++r.stats.error_test_fails;
-          if (std::isnan(err)) ++r.stats.callback_recoverable;
-          const double factor = std::isnan(err) ? 0.25 : std::max(min_factor, safety * std::pow(err, error_exponent));
-          h = h_try * factor;
-          rejected = true;
-          if (h < 16 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t)))
-            return finish(status_step_too_small, t,
-                          at_time("DOP853_ERR_FAILURE", t) + ": the step size fell below round-off of t (" +
-                              (!std::isnan(err)                  ? std::string("repeated error-test failures")
-                               : st.recoverable_message.empty() ? std::string("the right-hand side is not finite")
-                                                                : st.recoverable_message) +
-                              ")");
-          continue;
-        }
-        double factor = err == 0 ? max_factor : std::min(max_factor, std::max(min_factor, safety * std::pow(err, error_exponent)));
-        if (rejected) factor = std::min(factor, 1.0);
-        rejected = false;
-        st.accept();
-        t = to_output ? t_out : t + h_try;
-        ++r.stats.steps;
+    // Steps are cut only to land on the last output time; the outputs inside a step are read
+    // from its continuous extension before the step is projected or the coordinates change.
+    std::vector<double> dense(st.size());
+    const double t_end = times.back();
+    std::size_t k = 1;
+    while (k < times.size()) {
+      if (r.stats.steps >= options.max_steps)
+        return finish(status_too_much_work, t,
+                      at_time("DOP853_TOO_MUCH_WORK", t) + ": solver.max_steps = " +
+                          std::to_string(options.max_steps) + " steps taken before reaching the output time");
+      const bool to_end = t + h >= t_end - 1e-13 * std::abs(t_end);
+      const double h_try = to_end ? t_end - t : h;
+      const double err = st.step(t, h_try, r.stats);
+      if (!(err <= 1.0)) {  // rejected: error too large, or NaN (a non-finite stage)
+        ++r.stats.error_test_fails;
+        if (std::isnan(err)) ++r.stats.callback_recoverable;
+        const double factor = std::isnan(err) ? 0.25 : std::max(min_factor, safety * std::pow(err, error_exponent));
         h = h_try * factor;
-        if (to_output) h = std::max(h, std::min(h_wanted, h_max));
-        h = std::min(h, h_max);
-        if (projecting && r.stats.steps % options.projection_frequency == 0 && !st.project(t, corr, r.stats))
-          return finish(status_step_too_small, t, at_time("DOP853_PROJECTION_FAILED", t) +
-                                                      ": the projection onto the constraints did not converge");
-        if (checking && t < times.back()) st.after_step(t, r.stats);
+        rejected = true;
+        if (h < 16 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t)))
+          return finish(status_step_too_small, t,
+                        at_time("DOP853_ERR_FAILURE", t) + ": the step size fell below round-off of t (" +
+                            (!std::isnan(err)                  ? std::string("repeated error-test failures")
+                             : st.recoverable_message.empty() ? std::string("the right-hand side is not finite")
+                                                              : st.recoverable_message) +
+                            ")");
+        continue;
       }
-      record(static_cast<int>(k), t_out, st.z.data(), st.sensitivities());
-      st.record_quadrature(static_cast<int>(k), t_out);
-      ++r.outputs_recorded;
+      double factor = err == 0 ? max_factor : std::min(max_factor, std::max(min_factor, safety * std::pow(err, error_exponent)));
+      if (rejected) factor = std::min(factor, 1.0);
+      rejected = false;
+      const double t_new = to_end ? t_end : t + h_try;
+      if (times[k] < t_new) {
+        st.prepare_dense(t, h_try, r.stats);
+        for (; times[k] < t_new; ++k) {
+          st.interpolate(times[k], dense);
+          record(static_cast<int>(k), times[k], dense.data(), st.sensitivities(&dense));
+          st.record_quadrature(static_cast<int>(k), times[k], &dense);
+          ++r.outputs_recorded;
+        }
+      }
+      st.accept();
+      t = t_new;
+      ++r.stats.steps;
+      h = std::min(h_try * factor, h_max);
+      if (projecting && r.stats.steps % options.projection_frequency == 0 && !st.project(t, corr, r.stats))
+        return finish(status_step_too_small, t, at_time("DOP853_PROJECTION_FAILED", t) +
+                                                    ": the projection onto the constraints did not converge");
+      if (checking && t < t_end) st.after_step(t, r.stats);
+      if (k < times.size() && times[k] == t) {
+        record(static_cast<int>(k), t, st.z.data(), st.sensitivities());
+        st.record_quadrature(static_cast<int>(k), t);
+        ++r.outputs_recorded;
+        ++k;
+      }
     }
   } catch (const CallbackError& e) {
     return finish(status_rhs_failed, t, at_time("DOP853_RHSFUNC_FAIL", t) + ": " + e.what);

@@ -519,6 +519,7 @@ SolverStats& SolverStats::operator+=(const SolverStats& o) {
   projections += o.projections;
   callback_recoverable += o.callback_recoverable;
   repartitions += o.repartitions;
+  dense_outputs += o.dense_outputs;
   wall_seconds += o.wall_seconds;
   return *this;
 }

@@ -55,6 +55,7 @@ struct SolverStats {
   long projections = 0;            // CVodeGetNumProjEvals
   long callback_recoverable = 0;   // callbacks that returned +1 (non-finite output)
   long repartitions = 0;           // restarts in new coordinates (OdeProblem::after_step)
+  long dense_outputs = 0;          // DOP853: steps whose continuous extension was built (3 rhs each)
   double wall_seconds = 0;         // wall-clock time of integrate(), setup included
 
   // Adds the counters of another segment of the same integration (a restart resets CVODES's).
