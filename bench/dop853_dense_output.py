@@ -1,0 +1,111 @@
+#!/usr/bin/python3
+"""DOP853 with 251 output times on the 4-link chain (configs/nlink_chain_4.yaml, 10 s, with the
+sensitivities to m and L): `kanesens simulate` of a build that cuts its steps to land on every
+output time ("before") against one that interpolates them with the continuous extension
+("after"), at several tolerances, runs interleaved. Wall time: median of R runs of the
+integration (stats.wall_seconds) and of the whole command; accuracy: the largest error of the
+states and of the sensitivities at the output times against a reference run at rtol 1e-13
+(the "before" build, which lands on every output time).
+
+    /usr/bin/python3 bench/dop853_dense_output.py BEFORE_EXE AFTER_EXE [--repeat R] [--out JSON]
+
+Writes the raw figures to bench/results/dop853_dense_output.json and prints a markdown table.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+
+import common as c
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+TOLERANCES = [1e-6, 1e-8, 1e-10]
+
+
+def study(rtol: float) -> str:
+    return (f"kanesens: 1\nscene: {ROOT / 'configs' / 'nlink_chain_4.yaml'}\n"
+            "time: {end: 10.0, outputs: 251}\n"
+            f"solver: {{method: dop853, rtol: {rtol:.1e}, atol: {rtol * 1e-2:.1e}}}\n"
+            "sensitivities: [m, L]\n")
+
+
+def simulate(exe: str, path: Path) -> tuple[dict, float]:
+    t0 = time.perf_counter()
+    out = subprocess.run([exe, "simulate", str(path)], check=True, capture_output=True, text=True).stdout
+    return json.loads(out), time.perf_counter() - t0
+
+
+def max_error(run: dict, ref: dict, key: str) -> float:
+    def flat(x):
+        return [v for row in x for v in (flat(row) if isinstance(row, list) else [row])] if isinstance(x, list) else [x]
+    return max(abs(a - b) for a, b in zip(flat(run[key]), flat(ref[key])))
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("before")
+    ap.add_argument("after")
+    ap.add_argument("--repeat", type=int, default=21)
+    ap.add_argument("--out", default=str(HERE / "results" / "dop853_dense_output.json"))
+    a = ap.parse_args()
+    builds = {"before": a.before, "after": a.after}
+    rows = []
+    with tempfile.TemporaryDirectory() as d:
+        ref_path = Path(d) / "reference.yaml"
+        ref_path.write_text(study(1e-13))
+        ref, _ = simulate(a.before, ref_path)
+        files = {}
+        for rtol in TOLERANCES:
+            p = Path(d) / f"rtol_{rtol:.0e}.yaml"
+            p.write_text(study(rtol))
+            files[rtol] = p
+        integ = {(b, r): [] for b in builds for r in TOLERANCES}
+        whole = {(b, r): [] for b in builds for r in TOLERANCES}
+        last = {}
+        for _ in range(a.repeat):
+            for rtol, p in files.items():
+                for b, exe in builds.items():
+                    out, w = simulate(exe, p)
+                    integ[(b, rtol)].append(out["stats"]["wall_seconds"])
+                    whole[(b, rtol)].append(w)
+                    last[(b, rtol)] = out
+        for rtol in TOLERANCES:
+            for b in builds:
+                out = last[(b, rtol)]
+                rows.append({
+                    "build": b, "rtol": rtol, "status": out["status"],
+                    "steps": out["stats"]["steps"], "rhs_evals": out["stats"]["rhs_evals"],
+                    "error_test_fails": out["stats"]["error_test_fails"],
+                    "integration_seconds_median": statistics.median(integ[(b, rtol)]),
+                    "command_seconds_median": statistics.median(whole[(b, rtol)]),
+                    "integration_seconds": integ[(b, rtol)],
+                    "max_state_error": max_error(out, ref, "states"),
+                    "max_sensitivity_error": max_error(out, ref, "sensitivities"),
+                })
+    result = {
+        "command": " ".join(["bench/dop853_dense_output.py", a.before, a.after, "--repeat", str(a.repeat)]),
+        "revision": c.git_revision(), "cpu": c.cpu_model(), "nproc": c.nproc(), "loadavg": c.loadavg(),
+        "study": "configs/nlink_chain_4.yaml, 10 s, 251 output times, dop853, atol = 1e-2 rtol, "
+                 "sensitivities to m and L; reference: the before build at rtol 1e-13",
+        "rows": rows,
+    }
+    Path(a.out).write_text(json.dumps(result, indent=2) + "\n")
+    print("| rtol | build | steps | rhs evals | integration s (median) | ratio after/before | max state error | max sensitivity error |")
+    print("|---|---|---|---|---|---|---|---|")
+    for rtol in TOLERANCES:
+        b, f = (next(r for r in rows if r["rtol"] == rtol and r["build"] == x) for x in ("before", "after"))
+        for r in (b, f):
+            ratio = r["integration_seconds_median"] / b["integration_seconds_median"]
+            print(f"| {rtol:.0e} | {r['build']} | {r['steps']} | {r['rhs_evals']} | {r['integration_seconds_median']:.4f} | "
+                  f"{ratio:.2f} | {r['max_state_error']:.1e} | {r['max_sensitivity_error']:.1e} |")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
