@@ -26,6 +26,18 @@ int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) no
   }
 }
 
+int root_trampoline(sunrealtype t, N_Vector y, sunrealtype* gout, void* user_data) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    cb.events->g(t, N_VGetArrayPointer(y), gout);
+    return 0;
+  } catch (const std::exception& e) {
+    return cb.fail("event function", t, e.what());
+  } catch (...) {
+    return cb.fail("event function", t, "unknown exception");
+  }
+}
+
 int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user_data, N_Vector,
                    N_Vector, N_Vector) noexcept {
   CallbackData& cb = data_of(user_data);

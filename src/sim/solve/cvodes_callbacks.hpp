@@ -23,6 +23,7 @@ std::string format_time(double t);
 struct CallbackData {
   OdeProblem* problem = nullptr;
   OdeQuadrature* quadrature = nullptr;  // integrals computed alongside, or none
+  OdeEvents* events = nullptr;          // event functions (CVodeRootInit), or none
   int nquad = 0;
   std::vector<const double*> quadrature_s;  // the quadrature sensitivity call's pointers (ns each)
   std::vector<double*> quadrature_sdot;
@@ -95,6 +96,8 @@ int sens_rhs_trampoline(int ns, sunrealtype t, N_Vector y, N_Vector ydot, int iS
 // multi-tangent pass.
 int sens_rhs_all_trampoline(int ns, sunrealtype t, N_Vector y, N_Vector ydot, N_Vector* yS, N_Vector* ySdot,
                             void* user_data, N_Vector, N_Vector) noexcept;
+// CVodeRootInit's g: OdeEvents::g (an exception: −1, CVODES stops with CV_RTFUNC_FAIL).
+int root_trampoline(sunrealtype t, N_Vector y, sunrealtype* gout, void* user_data) noexcept;
 int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
                     void* user_data) noexcept;
 // CVODES reports errors through this instead of printing them to stderr (thousands of failing

@@ -6,8 +6,10 @@
 #include <cstdio>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/solve/dop853_tableau.hpp"
@@ -202,10 +204,11 @@ class Stepper {
     ++stats.dense_outputs;
   }
 
-  // The continuous extension at time tt in the last prepared step, into out (stacked).
-  void interpolate(double tt, std::vector<double>& out) const {
+  // The continuous extension at time tt in the last prepared step, into out (stacked; the
+  // first `count` components only, if given).
+  void interpolate(double tt, std::vector<double>& out, std::size_t count = 0) const {
     const double s = (tt - dense_t_) / dense_h_, s1 = 1 - s;
-    for (std::size_t j = 0; j < N_; ++j) {
+    for (std::size_t j = 0; j < (count ? count : N_); ++j) {
       const auto& c = rcont_;
       out[j] = c[0][j] + s * (c[1][j] + s1 * (c[2][j] + s * (c[3][j] + s1 * (c[4][j] + s * (c[5][j] + s1 * (c[6][j] + s * c[7][j]))))));
     }
@@ -289,6 +292,64 @@ class Stepper {
   std::vector<const double*> qs_pointers_ = std::vector<const double*>(static_cast<std::size_t>(ns_));
 };
 
+// The event functions' values at the ends of the current step and the location of their
+// crossings on the continuous extension.
+class EventLocator {
+ public:
+  EventLocator(OdeEvents& events, std::size_t n)
+      : events_(events), m_(static_cast<std::size_t>(events.size())), g_old(m_), g_new(m_), g_(m_), y_(n) {}
+
+  void eval(double t, const double* y, std::vector<double>& out) {
+    try {
+      events_.g(t, y, out.data());
+    } catch (const std::exception& e) {
+      throw CallbackError{std::string("event function threw: ") + e.what()};
+    }
+  }
+  // The functions that change sign in their direction from g_old to g_new.
+  void crossings(std::vector<int>& out) const {
+    out.clear();
+    for (std::size_t i = 0; i < m_; ++i) {
+      const int d = events_.direction(static_cast<int>(i));
+      const bool rising = g_old[i] < 0 && g_new[i] >= 0, falling = g_old[i] > 0 && g_new[i] <= 0;
+      if ((d >= 0 && rising) || (d <= 0 && falling)) out.push_back(static_cast<int>(i));
+    }
+  }
+  // The crossing of g_i in the prepared step [t, t + h]: Illinois false position on the
+  // continuous extension, to CVODES's rootfinding tolerance 100·ε·(|t| + |h|); the time
+  // returned is on the far side of the root (g has crossed there), as CVODES's.
+  double locate(const Stepper& st, int i, double t, double h) {
+    const std::size_t ii = static_cast<std::size_t>(i);
+    const double tol = 100 * std::numeric_limits<double>::epsilon() * (std::abs(t) + std::abs(h));
+    double a = t, b = t + h, ga = g_old[ii], gb = g_new[ii];
+    int side = 0;
+    for (int iter = 0; iter < 200 && b - a > tol; ++iter) {
+      double tm = b - gb * (b - a) / (gb - ga);
+      if (!(tm > a && tm < b)) tm = 0.5 * (a + b);
+      st.interpolate(tm, y_, y_.size());
+      eval(tm, y_.data(), g_);
+      const double gm = g_[ii];
+      if (gm == 0) return tm;
+      if ((gm < 0) == (ga < 0)) {
+        a = tm;
+        ga = gm;
+        if (side == -1) gb *= 0.5;
+        side = -1;
+      } else {
+        b = tm;
+        gb = gm;
+        if (side == 1) ga *= 0.5;
+        side = 1;
+      }
+    }
+    return b;
+  }
+
+  OdeEvents& events_;
+  std::size_t m_;
+  std::vector<double> g_old, g_new, g_, y_;
+};
+
 std::string at_time(const char* what, double t) {
   char buf[96];
   std::snprintf(buf, sizeof buf, "%s at t = %.10g", what, t);
@@ -298,7 +359,8 @@ std::string at_time(const char* what, double t) {
 }  // namespace
 
 IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& options,
-                                   std::span<const double> times, const RecordFn& record, OdeQuadrature* quad) {
+                                   std::span<const double> times, const RecordFn& record, OdeQuadrature* quad,
+                                   OdeEvents* events) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   options.validate(problem.size());
@@ -333,6 +395,7 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
   const double h_max = options.max_step > 0 ? options.max_step : times.back() - times.front();
   double h = 0;
   bool rejected = false;  // the last trial step was rejected
+  std::size_t k = 1;      // the next output
   try {
     if (times.size() > 1) {
       st.f(t, st.z, st.first_stage(), r.stats);
@@ -344,7 +407,22 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
     // from its continuous extension before the step is projected or the coordinates change.
     std::vector<double> dense(st.size());
     const double t_end = times.back();
-    std::size_t k = 1;
+    std::unique_ptr<EventLocator> ev;
+    std::vector<int> crossing;
+    std::vector<std::pair<double, int>> located;
+    if (events && events->size() > 0) {
+      ev = std::make_unique<EventLocator>(*events, n);
+      ev->eval(t, st.z.data(), ev->g_old);
+    }
+    // Records the outputs before (or at, if `inclusive`) time tb from the prepared step.
+    auto record_dense = [&](double tb, bool inclusive) {
+      for (; k < times.size() && (times[k] < tb || (inclusive && times[k] == tb)); ++k) {
+        st.interpolate(times[k], dense);
+        record(static_cast<int>(k), times[k], dense.data(), st.sensitivities(&dense));
+        st.record_quadrature(static_cast<int>(k), times[k], &dense);
+        ++r.outputs_recorded;
+      }
+    };
     while (k < times.size()) {
       if (r.stats.steps >= options.max_steps)
         return finish(status_too_much_work, t,
@@ -372,14 +450,41 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
       if (rejected) factor = std::min(factor, 1.0);
       rejected = false;
       const double t_new = to_end ? t_end : t + h_try;
-      if (times[k] < t_new) {
-        st.prepare_dense(t, h_try, r.stats);
-        for (; times[k] < t_new; ++k) {
-          st.interpolate(times[k], dense);
-          record(static_cast<int>(k), times[k], dense.data(), st.sensitivities(&dense));
-          st.record_quadrature(static_cast<int>(k), times[k], &dense);
-          ++r.outputs_recorded;
+      bool prepared = false;
+      if (ev) {
+        ev->eval(t_new, st.z_new.data(), ev->g_new);
+        ev->crossings(crossing);
+        if (!crossing.empty()) {
+          st.prepare_dense(t, h_try, r.stats);
+          prepared = true;
+          located.clear();
+          for (int i : crossing) located.emplace_back(ev->locate(st, i, t, h_try), i);
+          std::stable_sort(located.begin(), located.end(),
+                           [](const auto& x, const auto& y) { return x.first < y.first; });
+          for (const auto& [tau, i] : located) {
+            record_dense(tau, false);
+            st.interpolate(tau, dense);
+            bool stop = false;
+            try {
+              stop = events->occurred(i, tau, dense.data(), st.sensitivities(&dense));
+            } catch (const std::exception& e) {
+              throw CallbackError{std::string("event handler threw: ") + e.what()};
+            }
+            if (stop) {
+              record_dense(tau, true);
+              r.stopped_at = tau;
+              r.message = at_time("stopped by an event", tau);
+              r.stats.steps += 1;
+              r.status = 1;
+              r.stats.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
+              return r;
+            }
+          }
         }
+      }
+      if (times[k] < t_new) {
+        if (!prepared) st.prepare_dense(t, h_try, r.stats);
+        record_dense(t_new, false);
       }
       st.accept();
       t = t_new;
@@ -389,6 +494,10 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
         return finish(status_step_too_small, t, at_time("DOP853_PROJECTION_FAILED", t) +
                                                     ": the projection onto the constraints did not converge");
       if (checking && t < t_end) st.after_step(t, r.stats);
+      if (ev && (projecting || checking))
+        ev->eval(t, st.z.data(), ev->g_old);  // the state may have moved
+      else if (ev)
+        ev->g_old.swap(ev->g_new);
       if (k < times.size() && times[k] == t) {
         record(static_cast<int>(k), t, st.z.data(), st.sensitivities());
         st.record_quadrature(static_cast<int>(k), t);

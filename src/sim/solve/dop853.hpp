@@ -22,6 +22,10 @@
 // Quadratures (an OdeQuadrature): integrated as components stacked after [y; s] by the same
 // stages, with error control (atol, rtol; their sensitivities like the state sensitivities).
 //
+// Events (an OdeEvents): g is evaluated at the end of every accepted step; where g_i changes
+// sign in its direction, the crossing is located on the continuous extension (Illinois
+// false position, to 100·ε·(|t| + |h|) in time, CVODES's rootfinding tolerance).
+//
 // Constraints: with a problem that has_projection() (stabilization: projection), the state is
 // projected after every accepted step (every projection_frequency steps), and the first stage
 // of the next step re-evaluated; the sensitivities are not projected during the integration
@@ -46,6 +50,6 @@ namespace kanesens::sim {
 // callback_recoverable (rejected non-finite steps), wall_seconds.
 IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& options,
                                    std::span<const double> output_times, const RecordFn& record,
-                                   OdeQuadrature* quadrature = nullptr);
+                                   OdeQuadrature* quadrature = nullptr, OdeEvents* events = nullptr);
 
 }  // namespace kanesens::sim

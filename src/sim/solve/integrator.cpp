@@ -82,6 +82,35 @@ struct Integrator::Impl {
   std::vector<int> plist;                 // DQ parameter list of the current problem
   double* dq_p = nullptr;                 // DQ parameter array of the current problem
   std::vector<double> dq_p_saved;         // its values at the start of the run
+  std::vector<int> root_directions, roots_found;  // per event function (CVodeRootInit)
+
+  // After CV_ROOT_RETURN at t (y, s: the state and sensitivities there): calls occurred() for
+  // every function CVODES found crossing, in index order. True if one asked to stop.
+  bool handle_roots(double t, const double* yv, const double* const* s) {
+    check_flag(CVodeGetRootInfo(mem.get(), roots_found.data()), "CVodeGetRootInfo");
+    bool stop = false;
+    event_error.clear();
+    try {
+      for (std::size_t i = 0; i < roots_found.size(); ++i)
+        if (roots_found[i] != 0) stop = cb.events->occurred(static_cast<int>(i), t, yv, s) || stop;
+    } catch (const std::exception& e) {
+      event_error = e.what();
+      return true;
+    }
+    return stop;
+  }
+  std::string event_error;  // handle_roots: an event handler threw (the run fails)
+  // The integration ends at t: stopped by an event, or failed if its handler threw.
+  void stop_at(IntegrationResult& result, double t) const {
+    if (!event_error.empty()) {
+      result.status = CV_RHSFUNC_FAIL;
+      result.t_fail = t;
+      result.message = cvode_flag_name(CV_RHSFUNC_FAIL) + " at t = " + format_time(t) + ": event handler threw: " + event_error;
+      return;
+    }
+    result.stopped_at = t;
+    result.message = "stopped by an event at t = " + format_time(t);
+  }
 
   void release() noexcept {
     quadrature.release();
@@ -112,7 +141,7 @@ struct Integrator::Impl {
     if (!cb.callback_message.empty()) result.message += "; " + cb.callback_message;
   }
   void build(int n_states, int n_sens, bool with_projection, int n_quad, double t0);
-  void reinit(OdeProblem& problem, OdeQuadrature* quad, double t0, double t_end);
+  void reinit(OdeProblem& problem, OdeQuadrature* quad, OdeEvents* events, double t0, double t_end);
   void restore_dq_parameters() noexcept {
     for (std::size_t i = 0; i < dq_p_saved.size(); ++i) dq_p[plist[i]] = dq_p_saved[i];
   }
@@ -294,7 +323,8 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
   built = true;
 }
 
-void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, double t0, double t_end) {
+void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, OdeEvents* events, double t0,
+                              double t_end) {
   cb.reset(&problem, n);
   cb.quadrature = quad;
   cb.nquad = nquad;
@@ -323,6 +353,17 @@ void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, double t
                "CVodeSetSensParams");
   }
   quadrature.reinit(mem.get());
+  cb.events = events;
+  const int nev = events ? events->size() : 0;
+  check_flag(CVodeRootInit(mem.get(), nev, nev > 0 ? root_trampoline : nullptr), "CVodeRootInit");
+  root_directions.resize(static_cast<std::size_t>(nev));
+  roots_found.resize(static_cast<std::size_t>(nev));
+  if (nev > 0) {
+    for (int i = 0; i < nev; ++i) root_directions[static_cast<std::size_t>(i)] = events->direction(i);
+    check_flag(CVodeSetRootDirection(mem.get(), root_directions.data()), "CVodeSetRootDirection");
+    // A function that is zero at the start is simply not an event there (ode_problem.hpp).
+    check_flag(CVodeSetNoInactiveRootWarn(mem.get()), "CVodeSetNoInactiveRootWarn");
+  }
   // Never step past the last output (a model's forcing may be defined only up to t_end).
   check_flag(CVodeSetStopTime(mem.get(), t_end), "CVodeSetStopTime");
 }
@@ -358,11 +399,18 @@ void Integrator::Impl::integrate_stepwise(OdeProblem& problem, std::span<const d
       if (quad) quadrature.record_interpolated(m, *quad, static_cast<int>(k), times[k]);
       ++result.outputs_recorded;
     }
-    if (k == times.size()) break;
     if (ns > 0) {
       double ts = 0;
       check_flag(CVodeGetSens(m, &ts, yS.get()), "CVodeGetSens");
     }
+    if (flag == CV_ROOT_RETURN) {  // t is the crossing, y and yS the state there
+      if (handle_roots(t, yv, ns > 0 ? s_pointers.data() : nullptr)) {
+        stop_at(result, t);
+        break;
+      }
+      continue;
+    }
+    if (k == times.size()) break;
     bool changed = false;
     try {
       changed = problem.after_step(t, yv, s_step);
@@ -425,10 +473,10 @@ const SolverOptions& Integrator::options() const {
 }
 
 IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const double> times,
-                                        const RecordFn& record, OdeQuadrature* quad) {
+                                        const RecordFn& record, OdeQuadrature* quad, OdeEvents* events) {
   // The explicit method has no CVODES objects; it shares the options, result and record().
   if (impl_->options.method == Method::dop853)
-    return integrate_dop853(problem, impl_->options, times, record, quad);
+    return integrate_dop853(problem, impl_->options, times, record, quad, events);
   const auto start = std::chrono::steady_clock::now();
   Impl& im = *impl_;
   im.check_problem(problem, times);
@@ -440,7 +488,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   if (!im.built || im.n != n_states || im.ns != n_sens || im.projection != with_projection || im.nquad != n_quad) {
     im.build(n_states, n_sens, with_projection, n_quad, times.front());
   }
-  im.reinit(problem, quad, times.front(), times.back());
+  im.reinit(problem, quad, events, times.front(), times.back());
 
   // Restore CVODES's DQ perturbations of the problem's parameters however we leave.
   struct RestoreGuard {
@@ -487,7 +535,17 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
       }
     }
     check_flag(CVodeSetMaxNumSteps(m, remaining > 0 ? remaining : 1), "CVodeSetMaxNumSteps");
-    const int flag = CVode(m, tout, im.y.get(), &t_reached, CV_NORMAL);
+    int flag = CVode(m, tout, im.y.get(), &t_reached, CV_NORMAL);
+    bool stopped = false;
+    while (flag == CV_ROOT_RETURN && !stopped) {
+      if (n_sens > 0) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
+      stopped = im.handle_roots(t_reached, y, s);
+      if (!stopped) flag = CVode(m, tout, im.y.get(), &t_reached, CV_NORMAL);
+    }
+    if (stopped) {
+      im.stop_at(result, t_reached);
+      break;
+    }
     if (flag < 0) {
       im.fail(result, flag, t_reached);
       break;
@@ -525,9 +583,10 @@ SolverStats& SolverStats::operator+=(const SolverStats& o) {
 }
 
 IntegrationResult integrate(OdeProblem& problem, const SolverOptions& options,
-                            std::span<const double> output_times, const RecordFn& record, OdeQuadrature* quad) {
+                            std::span<const double> output_times, const RecordFn& record, OdeQuadrature* quad,
+                            OdeEvents* events) {
   Integrator integrator(options);
-  return integrator.integrate(problem, output_times, record, quad);
+  return integrator.integrate(problem, output_times, record, quad, events);
 }
 
 std::string sundials_version() {

@@ -29,6 +29,7 @@
 // parameters) or bad output times throw std::invalid_argument; a failing SUNDIALS setup call throws
 // std::runtime_error. Not thread-safe: one Integrator per thread.
 #pragma once
+#include <limits>
 #include <functional>
 #include <memory>
 #include <span>
@@ -72,6 +73,9 @@ struct IntegrationResult {
   std::string message;
   double t_fail = 0;         // time reached when the integration failed (NaN on success)
   int outputs_recorded = 0;  // number of record() calls made
+  // An event stopped the integration (OdeEvents::occurred returned true): its time, else NaN.
+  // The status stays 1 (ok) and the message says it stopped.
+  double stopped_at = std::numeric_limits<double>::quiet_NaN();
   SolverStats stats;
   bool ok() const { return status == 1; }
 };
@@ -90,8 +94,10 @@ class Integrator {
   // output_times: at least one, strictly increasing, finite. See the file comment. `quadrature`
   // (optional): integrals computed alongside (ode_problem.hpp), handed to its record() after each
   // record() call.
+  // `events` (optional): event functions located on the way (ode_problem.hpp, OdeEvents).
   IntegrationResult integrate(OdeProblem& problem, std::span<const double> output_times,
-                              const RecordFn& record, OdeQuadrature* quadrature = nullptr);
+                              const RecordFn& record, OdeQuadrature* quadrature = nullptr,
+                              OdeEvents* events = nullptr);
 
   const SolverOptions& options() const;
 
@@ -103,7 +109,7 @@ class Integrator {
 // One-shot convenience: Integrator(options).integrate(problem, output_times, record).
 IntegrationResult integrate(OdeProblem& problem, const SolverOptions& options,
                             std::span<const double> output_times, const RecordFn& record,
-                            OdeQuadrature* quadrature = nullptr);
+                            OdeQuadrature* quadrature = nullptr, OdeEvents* events = nullptr);
 
 // "6.4.1": the SUNDIALS this build links.
 std::string sundials_version();

@@ -138,4 +138,24 @@ class OdeQuadrature {
   virtual void record(int k, double t, const double* q, const double* const* qs) = 0;
 };
 
+// Event functions located by the integrator on its continuous solution: an event i happens where
+// g_i(t, y) crosses zero in direction(i) (+1 rising, −1 falling, 0 both). CVODES locates the
+// crossings with its rootfinding (CVodeRootInit), DOP853 on its continuous extension; both look
+// for a sign change of g_i over each step, so two crossings of one function within a step (a
+// grazing touch) are not seen, and a g_i that is zero at the start is not an event there. At each
+// crossing τ (in time order; several at the same τ in index order), occurred(i, τ, y(τ), s(τ))
+// is called (s == nullptr without sensitivities; the pointers are valid during the call only);
+// it returns true to stop the integration at τ (IntegrationResult::stopped_at). The outputs
+// before τ are recorded first; the output times after a stop are not recorded. g may throw (the
+// integration fails with its message).
+class OdeEvents {
+ public:
+  virtual ~OdeEvents() = default;
+  virtual int size() const = 0;
+  virtual int direction(int i) const = 0;
+  // gout (size()) = g(t, y); y is the problem's state (problem.size()).
+  virtual void g(double t, const double* y, double* gout) = 0;
+  virtual bool occurred(int i, double t, const double* y, const double* const* s) = 0;
+};
+
 }  // namespace kanesens::sim
