@@ -34,6 +34,27 @@ void point_kinematics(const Workspace<S>& ws, int b, const Vec3<S>& r, Vec3<S>& 
   a = ws.bias_acceleration[b].template tail<3>() + alpha.cross(p) + w.cross(v);
 }
 
+// A rolling constraint's contact point P = c + r d, d = −unit(n − (n·a) a): the wheel point
+// nearest the plane (a: wheel axis, n: plane normal, both world, unit).
+template <class S>
+struct RollingContact {
+  Vec3<S> a, n, w, wh, P;
+  S wn;
+};
+template <class S>
+RollingContact<S> rolling_contact(const Workspace<S>& ws, const Constraint& c) {
+  using std::sqrt;
+  RollingContact<S> rc;
+  const int b = c.body;
+  rc.a = (ws.R[b] * vec3(ws, c.axis)).normalized();
+  rc.n = vec3(ws, c.normal).normalized();
+  rc.w = rc.n - rc.n.dot(rc.a) * rc.a;
+  rc.wn = sqrt(rc.w.squaredNorm());
+  rc.wh = rc.w / rc.wn;
+  rc.P = ws.com[b] - ws.values[c.radius] * rc.wh;
+  return rc;
+}
+
 // Column k of the velocity of a point p fixed in body b: s_k.lin + s_k.ang × p (0 if k does not move b).
 template <class S>
 Vec3<S> point_partial(const Model& m, const Workspace<S>& ws, int b, int k, const Vec3<S>& p) {
@@ -175,15 +196,10 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         else general_velocity(m, ws, c, r0, q, u);
         break;
       case Constraint::Kind::rolling: {
-        // Contact point P = c + r d, d = −unit(n − (n·a) a): the wheel point nearest the plane.
         const int b = c.body;
-        const Vec3<S> a = (ws.R[b] * vec3(ws, c.axis)).normalized();
-        const Vec3<S> n = vec3(ws, c.normal).normalized();
-        const Vec3<S> w = n - n.dot(a) * a;
-        const S wn = sqrt(w.squaredNorm());
-        const Vec3<S> wh = w / wn;
-        const S radius = ws.values[c.radius];
-        const Vec3<S> P = ws.com[b] - radius * wh;
+        const RollingContact<S> rc = rolling_contact(ws, c);
+        const Vec3<S>&a = rc.a, &n = rc.n, &wh = rc.wh, &P = rc.P;
+        const S wn = rc.wn, radius = ws.values[c.radius];
         const Vec3<S> omega = ws.velocity[b].template head<3>();
         const Vec3<S> vO = ws.velocity[b].template tail<3>();
         const Vec3<S> vc = vO + omega.cross(ws.com[b]);
@@ -210,6 +226,12 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
     for (int r = 0; r < m.nconstraint_rows; ++r)
       ws.constraint_bias[r] -= a2 * ws.velocity_residual[r] + b2 * ws.position_residual[r];
   }
+}
+
+template <class S>
+S rolling_height(const Workspace<S>& ws, const Constraint& c) {
+  const RollingContact<S> rc = rolling_contact(ws, c);
+  return rc.n.dot(rc.P) - ws.values[c.height];
 }
 
 template <class S>
@@ -319,7 +341,8 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
 #define KANESENS_INSTANTIATE(S)                                                          \
   template void compute_constraints<S>(const Model&, Workspace<S>&, const S*, const S*,   \
                                        const DynamicsOptions&);                          \
-  template bool solve_constrained_accelerations<S>(const Model&, Workspace<S>&);
+  template bool solve_constrained_accelerations<S>(const Model&, Workspace<S>&);          \
+  template S rolling_height<S>(const Workspace<S>&, const Constraint&);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
 #undef KANESENS_INSTANTIATE

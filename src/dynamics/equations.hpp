@@ -44,6 +44,12 @@ void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q,
 template <class S>
 void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u,
                          const DynamicsOptions& options = {});
+// The holonomic part of a `rolling` constraint after compute_position: the contact point's height
+// above the plane, n̂·P − height. Its rows keep no position residual (they are the contact
+// point's velocity, world components), but their combination n̂·(A u) is exactly the rate of this
+// height, so it is a position constraint that linearization (sim/linearize.hpp) can solve for.
+template <class S>
+S rolling_height(const Workspace<S>& ws, const Constraint& c);
 // After solve_accelerations (ws.udot = M⁻¹ f): the multipliers λ and u̇ = M⁻¹(f + Aᵀλ).
 template <class S>
 bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws);
