@@ -170,6 +170,11 @@ int run_linearize(const LinearizeCliOptions& o) {
                          std::to_string(lin.position_residual) + ", velocity residual " +
                          std::to_string(lin.velocity_residual) +
                          "); rolling contacts are not corrected: give a state with the wheels on their planes");
+  // A describes stability only about a steady state of the kept coordinates and speeds.
+  const double rate = lin.rates.size() > 0 ? lin.rates.cwiseAbs().maxCoeff() : 0.0;
+  if (rate > kConsistent)
+    std::cerr << "kanesens: warning: the state is not steady in the kept coordinates and speeds (max |rate| = " << rate
+              << "); A is the Jacobian there, not the linearization about an equilibrium\n";
   const Modes md = modes(lin.A);
   if (o.json) print_json(m, o.t, init.y, init, input_names, lin, md);
   else print_text(lin, md);

@@ -200,8 +200,9 @@ Linearization linearize(const Model& m, const std::vector<double>& parameters, d
   const int niq = static_cast<int>(ind_q.size()), nz = niq + static_cast<int>(ind_u.size());
   const int nin = static_cast<int>(options.inputs.size());
   const Eigen::MatrixXd Gd = columns(G, dep_q), Ad = columns(Av, dep_u);
-  const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_q(Gd.cols() > 0 ? Gd : Eigen::MatrixXd(0, 0));
-  const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_u(Ad.cols() > 0 ? Ad : Eigen::MatrixXd(0, 0));
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_q, cod_u;
+  if (!dep_q.empty()) cod_q.compute(Gd);
+  if (!dep_u.empty()) cod_u.compute(Ad);
 
   // One dual evaluation per state direction (A) and per input (B).
   Eigen::MatrixXd Z(nz, nz + nin);
