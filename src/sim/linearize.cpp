@@ -270,7 +270,7 @@ Linearization linearize(const Model& m, const std::vector<double>& parameters, d
   for (int i = 0; i < nz; ++i)
     named[static_cast<std::size_t>(i)] = i < niq ? keep_q[static_cast<std::size_t>(ind_q[static_cast<std::size_t>(i)])]
                                                  : keep_u[static_cast<std::size_t>(ind_u[static_cast<std::size_t>(i - niq)])];
-  const double scale = Z.leftCols(nz).cwiseAbs().maxCoeff();
+  const double scale = nz > 0 ? Z.leftCols(nz).cwiseAbs().maxCoeff() : 0.0;
   for (bool changed = scale > 0; changed;) {
     changed = false;
     for (int k = 0; k < nz; ++k) {
