@@ -18,14 +18,14 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
-BENCH_CONFIGS = ROOT / "configs"  # the wp_* work-precision studies
+BENCH_CONFIGS = ROOT / "bench" / "configs"  # the wp_* work-precision studies
 SCRIPTS = ROOT / "scripts"
 PYTHON = os.environ.get("KANESENS_PYTHON", "/usr/bin/python3")
 
 # Where the build puts the executables, relative to a build directory.
 KANESENS = "kanesens"                             # the product CLI
-WORKPRECISION = ("kanesens", "bench", "workprecision")  # harness executable and its leading arguments
-PEERS = "apps/peers"                              # simbody_*_bench, mujoco_*_bench
+WORKPRECISION = ("bench/kanesens-workprecision",)  # harness executable and its leading arguments
+PEERS = "bench/peers"                             # simbody_*_bench, mujoco_*_bench
 
 median = statistics.median
 
@@ -41,7 +41,7 @@ def kanesens_exe(build: Path | str) -> Path:
 
 def workprecision_cmd(build: Path | str) -> list[str]:
     """The work-precision harness as a command prefix. KANESENS_WORKPRECISION (a command line,
-    e.g. "build/kanesens bench workprecision") overrides the one in the build directory."""
+    e.g. "build/bench/kanesens-workprecision") overrides the one in the build directory."""
     given = os.environ.get("KANESENS_WORKPRECISION")
     if given:
         return shlex.split(given)

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Work-precision diagrams from `kanesens bench workprecision --json` output.
+"""Work-precision diagrams from `kanesens-workprecision --json` output.
 
     /usr/bin/python3 bench/plot_workprecision.py RESULT.json [RESULT2.json ...] \
         [-o docs/workprecision] [--error final_rel_error] [--work wall_seconds]
@@ -161,7 +161,7 @@ def table(path, extra=()):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("json", nargs="+", help="output of kanesens bench workprecision --json")
+    ap.add_argument("json", nargs="+", help="output of kanesens-workprecision --json")
     ap.add_argument("-o", "--outdir", default="docs/workprecision")
     ap.add_argument("--error", default="final_rel_error", help="row key for the x axis")
     ap.add_argument("--work", default="wall_seconds", help="row key for the y axis (wall_seconds, rhs_evals_total)")

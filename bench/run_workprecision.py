@@ -7,7 +7,7 @@
     quick smoke test: bench/run_workprecision.py constrained_pendulum --repeat 1 --out /tmp/wp
 
 PROBLEM: any of --list (default: all). For each, runs the work-precision harness
-(`<harness> STUDY ARGS --repeat R --json`; harness default: `kanesens bench workprecision` of the
+(`<harness> STUDY ARGS --repeat R --json`; harness default: `kanesens-workprecision` of the
 build directory) into OUT/<problem>.json and draws OUT/<problem>.png (plot_workprecision.py);
 then the second views: deterministic work (RHS evaluations), energy drift, quaternion norm
 drift.

@@ -1,9 +1,7 @@
 // Cost of re-initialising one Integrator (CVodeReInit + CVodeSensReInit) versus building a
 // fresh one (SUNContext, vectors, dense matrix and solver, cvode_mem, SensInit) per sample.
-// Not part of the test gate. Build and run (after building kanesens_core in build/):
-//   g++ -std=c++20 -O2 -Isrc bench/solve_reuse.cpp build/libkanesens_core.a
-//       -lsundials_cvodes -lsundials_nvecserial -lsundials_sunlinsoldense
-//       -lsundials_sunmatrixdense -o build/solve_reuse && build/solve_reuse
+// Not part of the test gate. Build and run:
+//   cmake --build build --target kanesens-solve-reuse && build/bench/kanesens-solve-reuse
 // Timings alternate reuse/fresh rounds and keep each mode's best round (shared machine).
 #include <algorithm>
 #include <chrono>

@@ -14,7 +14,7 @@ link relative to the link above).
 --spring K and --damper C put ``spring: {k: k, rest: rest}`` and ``damper: {c: c}`` on every
 joint, with scene parameters k, c and rest (default 0), so studies can vary them.
 --free-first leaves the first joint (to ground) without spring and damper, so the chain swings as
-a pendulum while stiff springs hold the other joints (configs/nlink_chain_4_stiff_swing.yaml).
+a pendulum while stiff springs hold the other joints (bench/configs/nlink_chain_4_stiff_swing.yaml).
 --q0 A sets the first joint's initial angle (default 0.5 rad); the others start at 0.
 --q0-list A1,..,AN sets all N initial angles (bench/chain_slow_start.py computes the ones that
 start a stiff chain on its slow manifold).

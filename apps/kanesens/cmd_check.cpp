@@ -23,6 +23,8 @@ CLI::App* add_check(CLI::App& app, Action& action) {
   cmd->callback([&action, path] {
     action = [path] {
       const Model m = build_model(parse_scene_file(*path));
+      KaneProblem problem(m, {});
+      problem.validate_initial_state();  // degenerate constraints, non-finite equations at t = 0
       std::cout << "scene '" << m.name << "' (" << *path << "): valid\n";
       std::cout << "  bodies (" << m.nbody() << "):";
       for (const auto& b : m.bodies) std::cout << " " << b.name;
@@ -33,14 +35,12 @@ CLI::App* add_check(CLI::App& app, Action& action) {
       int rank = 0;
       if (m.nconstraint_rows > 0) {
         // Rank of the constraint matrix at the initial state: DOF = nu − rank(A).
-        KaneProblem problem(m, {});
         std::vector<double> y(static_cast<std::size_t>(m.nstate()));
         problem.initial_state(y.data());
         Workspace<double> ws(m);
         const std::vector<double> p = m.nominal_parameters();
         set_parameters(m, ws, p.data());
-        std::vector<double> ydot(y.size());
-        evaluate_rhs(m, ws, 0.0, y.data(), ydot.data());
+        evaluate_constraints(m, ws, 0.0, y.data(), y.data() + m.nq);
         rank = static_cast<int>(Eigen::FullPivLU<Eigen::MatrixXd>(ws.constraint_matrix).rank());
       }
       std::cout << "\n  degrees of freedom: " << m.nu - rank << " (nq = " << m.nq << ", nu = " << m.nu

@@ -41,7 +41,8 @@ int run_eom(const EomOptions& o) {
   std::vector<double> y(q);
   y.insert(y.end(), u.begin(), u.end());
   std::vector<double> ydot(y.size());
-  const bool ok = evaluate_rhs(m, ws, o.t, y.data(), ydot.data());
+  RhsFailure why = RhsFailure::none;
+  const bool ok = evaluate_rhs(m, ws, o.t, y.data(), ydot.data(), {}, &why);
 
   JsonWriter j(std::cout);
   j.begin_object();
@@ -62,7 +63,7 @@ int run_eom(const EomOptions& o) {
   j.key("qdot").array(ws.qdot.data(), m.nq);
   j.key("udot");
   if (ok) j.array(ws.udot.data(), m.nu);
-  else j.value(std::nan(""));  // null: M is not positive definite
+  else j.value(std::nan(""));  // null: M is not positive definite, or the constraints are degenerate
   const int nc = m.nconstraint_rows;
   j.key("constraint_names").array(m.constraint_row_names);
   j.key("constraint_matrix").begin_array();
@@ -76,11 +77,15 @@ int run_eom(const EomOptions& o) {
   j.key("constraint_bias").array(ws.constraint_bias.data(), static_cast<std::size_t>(nc));
   j.key("constraint_velocity_residual").array(ws.velocity_residual.data(), static_cast<std::size_t>(nc));
   j.key("constraint_position_residual").array(ws.position_residual.data(), static_cast<std::size_t>(nc));
-  j.key("multipliers").array(ws.multipliers.data(), static_cast<std::size_t>(nc));
+  j.key("multipliers");
+  if (ok) j.array(ws.multipliers.data(), static_cast<std::size_t>(nc));
+  else j.value(std::nan(""));
   j.key("constraint_rank").value(nc > 0 ? ws.constraint_rank : 0);
   j.key("kinetic_energy").value(kinetic_energy(m, ws));
   j.key("potential_energy").value(potential_energy(m, ws, q.data()));
-  j.key("mass_matrix_positive_definite").value(ok);
+  j.key("mass_matrix_positive_definite").value(why != RhsFailure::mass_matrix_not_positive_definite);
+  j.key("constraints_solvable").value(why != RhsFailure::constraints_degenerate);
+  if (!ok) std::cerr << "kanesens: eom: " << describe(why) << " at this state\n";
   j.end_object();
   std::cout << "\n";
   return ok ? 0 : 3;
@@ -93,7 +98,7 @@ CLI::App* add_eom(CLI::App& app, Action& action) {
   cmd->add_option("scene", o->scene, "Scene YAML file")->required();
   cmd->add_option("--q", o->q, "All coordinates in joint order, comma-separated (use --q=-1,2 for negatives)");
   cmd->add_option("--u", o->u, "All speeds in joint order, comma-separated");
-  cmd->add_option("--t", o->t, "Time (for time-dependent forces)");
+  cmd->add_option("--t", o->t, "Time (for time-dependent forces)")->check(finite_number());
   cmd->add_option("--set", o->set, "Override a parameter: NAME=VALUE (repeatable)");
   cmd->callback([&action, o] { action = [o] { return run_eom(*o); }; });
   return cmd;

@@ -168,8 +168,7 @@ int run_linearize(const LinearizeCliOptions& o) {
     throw InputError({}, o.q.empty() ? "initial conditions" : "--q",
                      "the state does not satisfy the constraints (position residual " +
                          std::to_string(lin.position_residual) + ", velocity residual " +
-                         std::to_string(lin.velocity_residual) +
-                         "); rolling contacts are not corrected: give a state with the wheels on their planes");
+                         std::to_string(lin.velocity_residual) + ")");
   // A describes stability only about a steady state of the kept coordinates and speeds.
   const double rate = lin.rates.size() > 0 ? lin.rates.cwiseAbs().maxCoeff() : 0.0;
   if (rate > kConsistent)
@@ -189,7 +188,7 @@ CLI::App* add_linearize(CLI::App& app, Action& action) {
   cmd->add_option("scene", o->scene, "Scene YAML file")->required();
   cmd->add_option("--q", o->q, "All coordinates in joint order, comma-separated (default: the scene's q0; --q=-1,2 for negatives)");
   cmd->add_option("--u", o->u, "All speeds in joint order, comma-separated (default: the scene's u0)");
-  cmd->add_option("--t", o->t, "Time");
+  cmd->add_option("--t", o->t, "Time")->check(finite_number());
   cmd->add_option("--set", o->set, "Override a parameter (m2=0.9) or an initial condition (elbow.q0=0.3); repeatable");
   cmd->add_option("--inputs", o->inputs, "Parameters that act as inputs (the columns of B), comma-separated");
   cmd->add_option("--coordinates", o->coordinates, "Coordinates to keep, comma-separated (default: chosen automatically)");

@@ -73,10 +73,11 @@ CLI::App* add_run(CLI::App& app, Action& action) {
   cmd->add_option("-o,--output", o->output, "Output HDF5 file (default: <study name>.h5)");
   cmd->add_flag("--resume", o->resume, "Finish the samples not yet run in an existing output of the same study");
   cmd->add_flag("--overwrite", o->overwrite, "Replace an existing output file");
-  cmd->add_option("--samples", o->samples, "Override sampling.samples");
+  cmd->add_option("--samples", o->samples, "Override sampling.samples")->check(integer_in(1, 1LL << 62));
   cmd->add_option("--set", o->set, "Override a parameter, initial condition or study setting: NAME=VALUE");
   cmd->add_flag("--progress", o->progress, "Print progress on rank 0 (default when stderr is a terminal)");
-  cmd->add_option("--chunk", o->chunk, "Samples claimed per request (default: guided, shrinking from 64 to 1)");
+  cmd->add_option("--chunk", o->chunk, "Samples claimed per request (default: guided, shrinking from 64 to 1)")
+      ->check(integer_in(1, 1LL << 30));
   cmd->add_flag("--json", *json, "Print the end-of-run summary as JSON");
   cmd->callback([&action, o, study, json] { action = [o, study, json] { return run_run(*o, *study, *json); }; });
   return cmd;

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "parallel/resources.hpp"
 #include "sim/simulate.hpp"
 #include "study/setup.hpp"
 #include "util/json_writer.hpp"
@@ -19,7 +20,8 @@ struct SimulateOptions {
   std::vector<std::string> set;
 };
 
-void print_json(const Model& m, const KaneProblem& problem, const std::vector<double>& times, const Trajectory& tr) {
+void print_json(const Model& m, const KaneProblem& problem, const std::vector<double>& times, const Trajectory& tr,
+                const OutputPlan* plan) {
   const std::size_t n = static_cast<std::size_t>(m.nstate()), ns = problem.sensitivities().size();
   JsonWriter j(std::cout);
   j.begin_object();
@@ -61,8 +63,25 @@ void print_json(const Model& m, const KaneProblem& problem, const std::vector<do
   j.key("position").value(problem.initial_position_correction());
   j.key("velocity").value(problem.initial_velocity_correction());
   j.end_object();
+  // The study's outputs after energy: series [T] (sensitivities [T][S]), scalars a number ([S]).
+  const std::size_t T = times.size();
   j.key("outputs").begin_object();
   if (!tr.energy.empty()) j.key("energy").array(tr.energy);
+  if (plan) {
+    for (std::size_t v = 0; v < plan->series_names.size(); ++v) j.key(plan->series_names[v]).array(&tr.outputs[v * T], T);
+    for (std::size_t v = 0; v < plan->scalar_names.size(); ++v) j.key(plan->scalar_names[v]).value(tr.scalar_outputs[v]);
+  }
+  j.end_object();
+  j.key("output_sensitivities").begin_object();
+  if (plan && ns > 0) {
+    for (std::size_t v = 0; v < plan->series_names.size(); ++v) {
+      j.key(plan->series_names[v]).begin_array();
+      for (std::size_t k = 0; k < T; ++k) j.array(&tr.output_sensitivities[(v * T + k) * ns], ns);
+      j.end_array();
+    }
+    for (std::size_t v = 0; v < plan->scalar_names.size(); ++v)
+      j.key(plan->scalar_names[v]).array(&tr.scalar_output_sensitivities[v * ns], ns);
+  }
   j.end_object();
   const auto& s = tr.result.stats;
   j.key("stats").begin_object();
@@ -76,19 +95,23 @@ void print_json(const Model& m, const KaneProblem& problem, const std::vector<do
   j.key("sens_rhs_evals").value(static_cast<long long>(s.sens_rhs_evals));
   j.key("rhs_evals_for_sens").value(static_cast<long long>(s.rhs_evals_for_sens));
   j.key("sens_error_test_fails").value(static_cast<long long>(s.sens_error_test_fails));
+  j.key("repartitions").value(static_cast<long long>(s.repartitions));
   j.key("wall_seconds").value(s.wall_seconds);
   j.end_object();
   j.end_object();
   std::cout << "\n";
 }
 
-void print_csv(const Model& m, const KaneProblem& problem, const std::vector<double>& times, const Trajectory& tr) {
+void print_csv(const Model& m, const KaneProblem& problem, const std::vector<double>& times, const Trajectory& tr,
+               const OutputPlan* plan) {
   const std::size_t n = static_cast<std::size_t>(m.nstate()), ns = problem.sensitivities().size();
   std::cout << "time";
   for (const auto& s : m.state_names) std::cout << "," << s;
   for (const auto& s : m.state_names)
     for (const auto& p : problem.sensitivities()) std::cout << ",d(" << s << ")/d(" << p.name << ")";
   if (!tr.energy.empty()) std::cout << ",energy";
+  if (plan)
+    for (const auto& name : plan->series_names) std::cout << "," << name;
   std::cout << "\n";
   char buf[32];
   auto num = [&](double v) {
@@ -101,6 +124,7 @@ void print_csv(const Model& m, const KaneProblem& problem, const std::vector<dou
     for (std::size_t r = 0; r < n && !tr.sensitivities.empty(); ++r)
       for (std::size_t i = 0; i < ns; ++i) std::cout << "," << num(tr.sensitivities[(k * n + r) * ns + i]);
     if (!tr.energy.empty()) std::cout << "," << num(tr.energy[k]);
+    for (std::size_t v = 0; plan && v < plan->series_names.size(); ++v) std::cout << "," << num(tr.outputs[v * times.size() + k]);
     std::cout << "\n";
   }
 }
@@ -120,10 +144,25 @@ int run_simulate(const SimulateOptions& o) {
     std::size_t start = 0;
     for (;;) {
       const auto c = o.sens.find(',', start);
-      sens.push_back(resolve_input(m, o.sens.substr(start, c == std::string::npos ? std::string::npos : c - start), "--sens"));
+      const std::string name = o.sens.substr(start, c == std::string::npos ? std::string::npos : c - start);
+      for (const InputRef& given : sens)
+        if (given.name == name) throw InputError({}, "--sens", "'" + name + "' is listed twice");
+      sens.push_back(resolve_input(m, name, "--sens"));
       if (c == std::string::npos) break;
       start = c + 1;
     }
+  }
+  {
+    // The trajectory is held in memory (and printed): check it fits, as `run` does per rank.
+    const double T = static_cast<double>(study.output_times.size()), S = static_cast<double>(sens.size());
+    const double bytes = 8.0 * T * ((m.nstate() + m.nconstraint_rows) * (1 + S) + 3);
+    const double available = parallel::available_memory_bytes();
+    if (bytes > available)
+      throw InputError(study.time_where, "time",
+                       "the trajectory (" + std::to_string(study.output_times.size()) + " times x " +
+                           std::to_string(m.nstate()) + " states x (1 + " + std::to_string(sens.size()) +
+                           " sensitivities)) needs about " + parallel::human_bytes(bytes) + " of memory but " +
+                           parallel::human_bytes(available) + " is available; use fewer output times or sensitivities");
   }
   KaneProblem problem(m, sens, study.constraints, study.output_times.front());
   problem.set_sample(setup.base);
@@ -134,10 +173,11 @@ int run_simulate(const SimulateOptions& o) {
   flags.energy = true;
   flags.multipliers = m.nconstraint_rows > 0;
   flags.constraint_residual = m.nconstraint_rows > 0;
+  flags.outputs = setup.record.outputs;
   Trajectory tr;
   simulate(problem, integrator, study.output_times, flags, tr);
-  if (o.format == "json") print_json(m, problem, study.output_times, tr);
-  else print_csv(m, problem, study.output_times, tr);
+  if (o.format == "json") print_json(m, problem, study.output_times, tr, flags.outputs);
+  else print_csv(m, problem, study.output_times, tr, flags.outputs);
   if (!tr.result.ok()) {
     std::cerr << "kanesens: integration failed: " << tr.result.message << "\n";
     return 4;

@@ -1,14 +1,16 @@
 """kanesens-post: summaries, plots and sensitivity analyses of a kanesens run file.
 
-    kanesens-post summary FILE
+    kanesens-post summary FILE [--output NAME [--at T]]
     kanesens-post plot FILE [--kind states|sensitivities|multipliers] [--states a,b]
-                            [--outputs energy] [--out PNG]
-    kanesens-post sobol FILE --output NAME (--at T | --over-time) [--bootstrap B] [--out PNG]
-    kanesens-post morris FILE --output NAME --at T
-    kanesens-post dgsm FILE --output NAME --at T
-    kanesens-post linear-uq FILE --output NAME (--at T | --over-time) [--tol 0.1] [--out PNG]
+                            [--outputs energy] [--output NAME] [--out PNG]
+    kanesens-post sobol FILE --output NAME [--at T | --over-time] [--bootstrap B] [--out PNG]
+    kanesens-post morris FILE --output NAME [--at T]
+    kanesens-post dgsm FILE --output NAME [--at T]
+    kanesens-post linear-uq FILE --output NAME [--at T | --over-time] [--tol 0.1] [--out PNG]
 
-Every subcommand takes --json (one JSON object on stdout). Errors print one line and exit 2.
+NAME is a state or an output (energy, or one of the study's outputs: a series needs --at T or
+--over-time, an output that is one number per sample takes neither). Every subcommand takes
+--json (one JSON object on stdout). Errors print one line and exit 2.
 """
 from __future__ import annotations
 
@@ -53,7 +55,20 @@ def _csv(text):
     return [s.strip() for s in text.split(",") if s.strip()] if text else None
 
 
+def _when(time):
+    """" at t = … s" for a value at one output time, "" for one number per sample."""
+    return "" if time is None else f" at t = {_fmt(time)} s"
+
+
 def cmd_summary(args, ds):
+    if args.output:
+        r = summary.output_statistics(ds, args.output, args.at)
+        times = r["time"] or [None]
+        pick = np.linspace(0, len(times) - 1, min(len(times), 11)).astype(int)
+        rows = [["-" if times[i] is None else _fmt(times[i])] + [_fmt(r[k][i]) for k in summary.STATISTICS]
+                for i in pick]
+        return r, (f"{r['output']} over {r['samples']} completed samples\n"
+                   + _table(["t [s]"] + list(summary.STATISTICS), rows))
     r = summary.summarize(ds)
     lines = [f"{args.file}: {r['samples']} samples ({r['sampling_method']}, seed {r['seed']}): "
              f"{r['ok']} ok, {r['failed']} failed, {r['not_run']} not run"]
@@ -79,6 +94,11 @@ def _plot():
 
 def cmd_plot(args, ds):
     plot = _plot()
+    if args.output:
+        fig = plot.plot_output(ds, args.output, title=args.file)
+        out = args.out or f"{args.file.rsplit('.', 1)[0]}_{args.output}.png"
+        plot.save(fig, out)
+        return {"png": out, "output": args.output}, f"wrote {out}"
     fig = plot.plot(ds, args.kind, _csv(args.states), _csv(args.outputs), title=args.file)
     out = args.out or f"{args.file.rsplit('.', 1)[0]}_{args.kind}.png"
     plot.save(fig, out)
@@ -86,8 +106,8 @@ def cmd_plot(args, ds):
 
 
 def _time_args(args):
-    if args.over_time == (args.at is not None):
-        raise RunFileError("give exactly one of --at T and --over-time")
+    if args.over_time and args.at is not None:
+        raise RunFileError("give either --at T or --over-time, not both")
 
 
 def cmd_sobol(args, ds):
@@ -112,7 +132,7 @@ def cmd_sobol(args, ds):
             row[1] += f" [{_fmt(r['S1_ci'][0][j])}, {_fmt(r['S1_ci'][1][j])}]"
             row[2] += f" [{_fmt(r['ST_ci'][0][j])}, {_fmt(r['ST_ci'][1][j])}]"
         rows.append(row)
-    return r, (head + f" at t = {_fmt(r['time'])} s, Var = {_fmt(r['variance'])}\n"
+    return r, (head + f"{_when(r['time'])}, Var = {_fmt(r['variance'])}\n"
                + _table(["input", "S1 (95% CI)", "ST (95% CI)"], rows))
 
 
@@ -120,7 +140,7 @@ def cmd_morris(args, ds):
     r = morris.analyze(ds, design(ds), args.output, args.at)
     rows = [[n, _fmt(r["mu_star"][j]), _fmt(r["mu"][j]), _fmt(r["sigma"][j])]
             for j, n in enumerate(r["inputs"])]
-    return r, (f"Morris elementary effects of {r['output']} at t = {_fmt(r['time'])} s, "
+    return r, (f"Morris elementary effects of {r['output']}{_when(r['time'])}, "
                f"{r['trajectories']} trajectories ({r['trajectories_dropped']} dropped), "
                f"{r['scale']} scale\n" + _table(["input", "mu*", "mu", "sigma"], rows))
 
@@ -129,7 +149,7 @@ def cmd_dgsm(args, ds):
     r = dgsm.analyze(ds, design(ds), args.output, args.at)
     rows = [[n, _fmt(r["nu"][j]), _fmt(r["total_index_bound"][j]), r["constant_used"][j]]
             for j, n in enumerate(r["inputs"])]
-    text = (f"DGSM of {r['output']} at t = {_fmt(r['time'])} s over {r['samples']} samples, "
+    text = (f"DGSM of {r['output']}{_when(r['time'])} over {r['samples']} samples, "
             f"Var = {_fmt(r['variance'])}\n"
             + _table(["input", "nu = E[(dy/dx)^2]", "S_T bound", "Poincare constant"], rows))
     if r["inputs_without_sensitivity"]:
@@ -139,8 +159,7 @@ def cmd_dgsm(args, ds):
 
 def cmd_linear_uq(args, ds):
     _time_args(args)
-    r = linear_uq.analyze(ds, design(ds), args.output, None if args.over_time else args.at,
-                          args.tol)
+    r = linear_uq.analyze(ds, design(ds), args.output, args.at, args.tol, args.over_time)
     head = (f"linear UQ of {r['output']} from sensitivities at sample "
             f"{r['linearisation_sample']} (nearest the input mean) vs Monte Carlo over "
             f"{r['mc_samples']} samples")
@@ -160,7 +179,7 @@ def cmd_linear_uq(args, ds):
                  _fmt(r["variance_linear"][i]), _fmt(r["variance_mc"][i]),
                  _fmt(r["variance_ratio"][i]), "yes" if r["holds"][i] else "no"] for i in k]
     else:
-        rows = [[_fmt(r["time"]), _fmt(r["mean_linear"]), _fmt(r["mean_mc"]),
+        rows = [["-" if r["time"] is None else _fmt(r["time"]), _fmt(r["mean_linear"]), _fmt(r["mean_mc"]),
                  _fmt(r["variance_linear"]), _fmt(r["variance_mc"]),
                  _fmt(r["variance_ratio"]), "yes" if r["holds"] else "no"]]
     text = head + "\n" + _table(["t [s]", "mean lin", "mean MC", "var lin", "var MC", "ratio",
@@ -181,11 +200,15 @@ def parser():
         s.set_defaults(func=func)
         return s
 
-    add("summary", cmd_summary, "sample counts, solver statistics, energy drift")
+    s = add("summary", cmd_summary, "sample counts, solver statistics, energy drift; or statistics of one output")
+    s.add_argument("--output", help="a state or output: its mean, std and percentiles")
+    s.add_argument("--at", type=float, help="time [s] of a series (default: every output time)")
     s = add("plot", cmd_plot, "percentile bands over time")
     s.add_argument("--kind", default="states", choices=["states", "sensitivities", "multipliers"])
     s.add_argument("--states", help="comma-separated state names (default: the first 6)")
     s.add_argument("--outputs", help="comma-separated output names, e.g. energy")
+    s.add_argument("--output", help="one state or output: bands over time, or a histogram of an "
+                                    "output that is one number per sample")
     s.add_argument("--out", help="PNG path (default FILE_KIND.png)")
     for name, func, help_ in (("sobol", cmd_sobol, "first/total Sobol' indices (Saltelli design)"),
                               ("morris", cmd_morris, "Morris mu*, mu, sigma"),
@@ -193,7 +216,7 @@ def parser():
                               ("linear-uq", cmd_linear_uq, "linearised mean/variance vs MC")):
         s = add(name, func, help_)
         s.add_argument("--output", required=True, help="a state name or an output name")
-        s.add_argument("--at", type=float, help="time [s] (nearest output time is used)")
+        s.add_argument("--at", type=float, help="time [s] of a series (nearest output time is used)")
         if name in ("sobol", "linear-uq"):
             s.add_argument("--over-time", action="store_true", help="at every output time")
             s.add_argument("--out", help="PNG of the --over-time result")
@@ -203,16 +226,12 @@ def parser():
         if name == "linear-uq":
             s.add_argument("--tol", type=float, default=0.1,
                            help="relative tolerance on variance (and mean, in std units)")
-        if name in ("morris", "dgsm"):
-            s.set_defaults(required_at=True)
     return p
 
 
 def main(argv=None):
     args = parser().parse_args(argv)
     try:
-        if getattr(args, "required_at", False) and args.at is None:
-            raise RunFileError(f"{args.command} needs --at T")
         ds = open_run(args.file)
         result, text = args.func(args, ds)
     except (RunFileError, StudyError, OSError, KeyError) as err:

@@ -6,13 +6,14 @@
 C_i is the Poincaré constant of input i's distribution (distributions.py): (b − a)²/π² for
 uniform inputs, σ² for normal ones. Expectations run over the completed samples of the file,
 whatever the design (every row of a Saltelli design is distributed as the inputs are; a Morris
-grid only approximately). y must be a state: the file holds sensitivities of states only.
+grid only approximately). y is a state or one of the study's outputs (their sensitivities are
+recorded with them).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .io import Design, RunFileError, input_gradient, response, time_index
+from .io import Design, RunFileError, input_gradient, select
 
 
 def measures(gradient: np.ndarray, y: np.ndarray, constants) -> dict:
@@ -31,10 +32,10 @@ def measures(gradient: np.ndarray, y: np.ndarray, constants) -> dict:
             "samples": int(g.shape[0])}
 
 
-def analyze(ds, des: Design, name: str, at: float) -> dict:
-    k = time_index(ds, at)
-    gradient, found, missing = input_gradient(ds, des, name, k)
-    y = np.asarray(response(ds, name).isel(time=k).values, float)
+def analyze(ds, des: Design, name: str, at=None) -> dict:
+    sel = select(ds, name, at)
+    gradient, found, missing = input_gradient(ds, des, name, sel.k)
+    y = sel.y
     constants, reasons = [], []
     for n in found:
         if n in des.dists:
@@ -43,7 +44,7 @@ def analyze(ds, des: Design, name: str, at: float) -> dict:
             c, why = None, "no distribution in the study's vary: section"
         constants.append(c)
         reasons.append(why)
-    out = {"output": name, "time": ds["time"].values[k], "inputs": found,
+    out = {"output": name, "time": sel.time, "inputs": found,
            "inputs_without_sensitivity": missing, "constant_used": reasons}
     out.update(measures(gradient, y, constants))
     return out

@@ -2,14 +2,20 @@
 
 What open_run() returns, whatever the file's dimension-scale details:
 
-    dims    sample, time, state, parameter, sensitivity, constraint
-    coords  sample (int), time (s), state / parameter / sensitivity / constraint (str names)
+    dims    sample, time, state, parameter, sensitivity, constraint, output, body, pose
+    coords  sample (int), time (s), state / parameter / sensitivity / constraint / output /
+            body / pose (str names)
     vars    parameters (sample, parameter)          inputs: never masked
             initial_state (sample, state)
             states (sample, time, state)            results: NaN where status != 1
             multipliers (sample, time, constraint)
             sensitivities (sample, time, state, sensitivity)
-            output_<name> (sample, time)            from /outputs/<name>
+            output_<name> (sample, time) or (sample)
+                                                    from /outputs/<name>: energy, residuals and
+                                                    the study's outputs (series or one number)
+            output_sensitivity_<name> (sample, [time,] sensitivity)
+                                                    from /output_sensitivities/<name>
+            poses (sample, time, body, pose)        record: poses; pose = x y z qw qx qy qz
             solver_stats_<name> (sample)            from /solver_stats/<name>: not masked (the
                                                     counters of a failed sample say how it failed)
             status (sample), message (sample)
@@ -23,6 +29,7 @@ Nothing is read until asked for: result variables are wrapped in a lazy masking 
 """
 from __future__ import annotations
 
+import difflib
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,10 +42,14 @@ from . import distributions
 OK = 1
 #: name dataset in the file -> dimension it labels
 NAME_VARIABLES = {"state_name": "state", "parameter_name": "parameter",
-                  "sensitivity_name": "sensitivity", "constraint_name": "constraint"}
+                  "sensitivity_name": "sensitivity", "constraint_name": "constraint",
+                  "output_name": "output", "body_name": "body", "pose_name": "pose"}
 #: variables whose values are meaningless unless the sample completed
-RESULT_VARIABLES = ("states", "multipliers", "sensitivities")
+RESULT_VARIABLES = ("states", "multipliers", "sensitivities", "poses")
 OUTPUT_PREFIX = "output_"
+OUTPUT_SENSITIVITY_PREFIX = "output_sensitivity_"
+#: outputs written by record: items (not the study's outputs:); they have no sensitivities
+RECORDED_OUTPUTS = ("energy", "position_residual", "velocity_residual")
 STATS_PREFIX = "solver_stats_"
 #: per-sample design labels (Saltelli, Morris) and the group of input distributions
 DESIGN_LABELS = ("design_block", "design_row", "design_input")
@@ -129,6 +140,7 @@ def open_run(path) -> xr.Dataset:
     ds = ds.assign({name: _masked(ds[name].variable, ok)
                     for name in RESULT_VARIABLES if name in ds.variables})
     ds = ds.assign(_group(path, "outputs", OUTPUT_PREFIX, ok, mask=True))
+    ds = ds.assign(_group(path, "output_sensitivities", OUTPUT_SENSITIVITY_PREFIX, ok, mask=True))
     ds = ds.assign(_group(path, "solver_stats", STATS_PREFIX, ok, mask=False))
     if "message" in ds.variables:
         ds["message"] = ("sample", [str(_text(m)) for m in ds["message"].values])
@@ -163,7 +175,8 @@ def _vary(path):
 
 
 def output_names(ds: xr.Dataset) -> list[str]:
-    return [n[len(OUTPUT_PREFIX):] for n in ds.data_vars if n.startswith(OUTPUT_PREFIX)]
+    return [n[len(OUTPUT_PREFIX):] for n in ds.data_vars
+            if n.startswith(OUTPUT_PREFIX) and not n.startswith(OUTPUT_SENSITIVITY_PREFIX)]
 
 
 def solver_stat_names(ds: xr.Dataset) -> list[str]:
@@ -171,25 +184,86 @@ def solver_stat_names(ds: xr.Dataset) -> list[str]:
 
 
 def response(ds: xr.Dataset, name: str) -> xr.DataArray:
-    """The (sample, time) series called `name`: a state (from /states) or an output."""
+    """The values called `name`: a state (from /states, (sample, time)) or an output (from
+    /outputs: (sample, time), or (sample) for an output that is one number per sample)."""
     if "state" in ds.coords and name in ds["state"].values:
         return ds["states"].sel(state=name, drop=True).rename(name)
     if OUTPUT_PREFIX + name in ds:
         return ds[OUTPUT_PREFIX + name].rename(name)
-    states = list(ds["state"].values) if "state" in ds.coords else []
-    raise RunFileError(f"no state or output named '{name}'; states are: {', '.join(states)}; "
-                       f"outputs are: {', '.join(output_names(ds)) or '(none)'}")
+    raise RunFileError(unknown_name(ds, name))
+
+
+def unknown_name(ds: xr.Dataset, name: str) -> str:
+    """The one-line error for a name that is neither a state nor an output: the components of a
+    vector output named bare (tip → tip.x, tip.y, tip.z), or the closest name, then the lists."""
+    states = [str(s) for s in ds["state"].values] if "state" in ds.coords else []
+    outputs = output_names(ds)
+    components = [n for n in states + outputs if n.startswith(name + ".")]
+    if components:
+        hint = f"; name one of its components: {', '.join(components)}"
+    else:
+        close = difflib.get_close_matches(name, states + outputs, n=1)
+        hint = f" (did you mean '{close[0]}'?)" if close else ""
+    return (f"no state or output named '{name}'{hint}; states are: {', '.join(states) or '(none)'}; "
+            f"outputs are: {', '.join(outputs) or '(none)'}")
 
 
 def state_sensitivities(ds: xr.Dataset, name: str) -> xr.DataArray:
     """∂(state `name`)/∂p for every recorded sensitivity parameter p: (sample, time, sensitivity).
-    Sensitivities exist for states only; an output (energy, ...) has none in the file."""
+    An output's sensitivities: sensitivities()."""
     if "sensitivities" not in ds:
         raise RunFileError("the file has no /sensitivities (record: [sensitivities] in the study)")
     if name not in ds["state"].values:
-        raise RunFileError(f"'{name}' is not a state; sensitivities are recorded for states only "
-                           f"({', '.join(ds['state'].values)})")
+        raise RunFileError(f"'{name}' is not a state; states are: {', '.join(ds['state'].values)}")
     return ds["sensitivities"].sel(state=name, drop=True)
+
+
+def sensitivities(ds: xr.Dataset, name: str) -> xr.DataArray:
+    """∂(`name`)/∂p for every recorded sensitivity p: a state's (sample, time, sensitivity) from
+    /sensitivities, or an output's (sample, [time,] sensitivity) from /output_sensitivities."""
+    if OUTPUT_SENSITIVITY_PREFIX + name in ds:
+        return ds[OUTPUT_SENSITIVITY_PREFIX + name]
+    if "state" in ds.coords and name in ds["state"].values:
+        return state_sensitivities(ds, name)
+    if name in RECORDED_OUTPUTS and name in output_names(ds):
+        raise RunFileError(f"no sensitivities of output '{name}': the record: items energy and "
+                           f"constraint_residual have none; a study output has them (outputs: "
+                           f"{{e: {{type: energy, kind: total}}}} with sensitivities:)")
+    if name in output_names(ds):
+        raise RunFileError(f"no sensitivities of output '{name}' in the file: the study's outputs "
+                           f"have them when the study lists sensitivities:")
+    response(ds, name)  # raises: no such state or output
+    raise RunFileError(f"no sensitivities of '{name}'")
+
+
+@dataclass(frozen=True)
+class Selection:
+    """What an analysis reads of one state or output.
+
+    y:    (sample,) values at one time, (sample, time) over time, or (sample,) of an output
+          that is one number per sample
+    time: the output time used (float), all output times (array), or None (one number)
+    k:    the time index, slice(None) over time, or None (one number)"""
+    name: str
+    y: np.ndarray
+    time: object
+    k: object
+
+
+def select(ds: xr.Dataset, name: str, at=None, over_time: bool = False) -> Selection:
+    """`name` at --at T (nearest output time), over time, or, for an output that is one number
+    per sample, as it is (it takes neither)."""
+    da = response(ds, name)
+    if "time" not in da.dims:
+        if at is not None or over_time:
+            raise RunFileError(f"'{name}' is one number per sample: it takes no --at or --over-time")
+        return Selection(name, np.asarray(da.values, float), None, None)
+    if over_time:
+        return Selection(name, np.asarray(da.values, float), ds["time"].values, slice(None))
+    if at is None:
+        raise RunFileError(f"'{name}' is a series over time: give --at T")
+    k = time_index(ds, at)
+    return Selection(name, np.asarray(da.isel(time=k).values, float), ds["time"].values[k], k)
 
 
 def time_index(ds: xr.Dataset, t: float) -> int:
@@ -302,11 +376,12 @@ def design(ds: xr.Dataset) -> Design:
 
 
 def input_gradient(ds: xr.Dataset, des: Design, name: str, k=None):
-    """∂y/∂x_i of state `name` for the varied inputs that have recorded sensitivities (the
-    /sensitivity_name entry equals the input's name). Returns (gradient (sample, [time,] n),
-    names with sensitivities, varied names without). k: a time index, or None for all times."""
-    sens = state_sensitivities(ds, name)
-    if k is not None:
+    """∂y/∂x_i of state or output `name` for the varied inputs that have recorded sensitivities
+    (the /sensitivity_name entry equals the input's name). Returns (gradient (sample, [time,] n),
+    names with sensitivities, varied names without). k: a time index, or None / slice(None)
+    for all times (and for an output that is one number per sample)."""
+    sens = sensitivities(ds, name)
+    if isinstance(k, (int, np.integer)) and "time" in sens.dims:
         sens = sens.isel(time=k)
     recorded = [str(s) for s in ds["sensitivity"].values]
     found = [n for n in des.names if n in recorded]

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .io import Design, input_gradient, response, time_index
+from .io import Design, input_gradient, response, select
 
 
 def input_moments(des: Design, names) -> tuple:
@@ -58,12 +58,14 @@ def verdict(mean_lin, var_lin, mean_mc, var_mc, tol):
     return holds, ratio
 
 
-def analyze(ds, des: Design, name: str, at=None, tol: float = 0.1) -> dict:
-    """At time `at`, or at every time if at is None."""
-    k = None if at is None else time_index(ds, at)
-    gradient, found, missing = input_gradient(ds, des, name, k)
-    series = response(ds, name)
-    y = np.asarray((series if k is None else series.isel(time=k)).values, float)
+def analyze(ds, des: Design, name: str, at=None, tol: float = 0.1, over_time=None) -> dict:
+    """At time `at`, at every time (over_time; by default when `at` is None and `name` is a
+    series), or of an output that is one number per sample."""
+    if over_time is None:
+        over_time = at is None and "time" in response(ds, name).dims
+    sel = select(ds, name, at, over_time)
+    gradient, found, missing = input_gradient(ds, des, name, sel.k)
+    y = sel.y
     ok = ~np.isnan(y.reshape(y.shape[0], -1)).any(axis=1)
     mean, var, source = input_moments(des, found)
     x = des.x[:, [des.names.index(n) for n in found]]
@@ -71,18 +73,17 @@ def analyze(ds, des: Design, name: str, at=None, tol: float = 0.1) -> dict:
     mean_lin, var_lin = propagate(y[s], gradient[s], x[s], mean, var)
     mean_mc, var_mc = y[ok].mean(axis=0), y[ok].var(axis=0, ddof=1)
     holds, ratio = verdict(mean_lin, var_lin, mean_mc, var_mc, tol)
-    times = ds["time"].values
-    out = {"output": name, "time": times if k is None else times[k], "inputs": found,
+    out = {"output": name, "time": sel.time, "inputs": found,
            "input_mean": mean, "input_variance": var, "input_moments_from": source,
            "inputs_without_sensitivity": missing, "linearisation_sample": s,
            "linearisation_point": x[s], "mc_samples": int(ok.sum()),
            "mean_linear": mean_lin, "variance_linear": var_lin,
            "mean_mc": mean_mc, "variance_mc": var_mc, "variance_ratio": ratio,
            "tolerance": tol, "holds": holds}
-    if k is None:
+    if over_time:
         broken = np.flatnonzero(~holds)
         out["holds_fraction"] = float(holds.mean())
-        out["first_breakdown_time"] = float(times[broken[0]]) if broken.size else None
+        out["first_breakdown_time"] = float(sel.time[broken[0]]) if broken.size else None
     if missing:
         out["warning"] = (f"varied inputs without recorded sensitivities are left out of the "
                           f"linear variance: {', '.join(missing)}")

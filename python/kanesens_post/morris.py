@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .io import Design, RunFileError, response, time_index
+from .io import Design, RunFileError, select
 
 
 def trajectories(des: Design, y: np.ndarray):
@@ -69,15 +69,16 @@ def elementary_effects(x: np.ndarray, y: np.ndarray, which: np.ndarray):
     return ee
 
 
-def analyze(ds, des: Design, name: str, at: float) -> dict:
-    k = time_index(ds, at)
-    y = np.asarray(response(ds, name).isel(time=k).values, float)
+def analyze(ds, des: Design, name: str, at=None) -> dict:
+    """Elementary effects of `name` at time `at`, or of an output that is one number per sample."""
+    sel = select(ds, name, at)
+    y = sel.y
     x, yt, which, dropped = trajectories(des, y)
     if x.shape[0] < 2:
         raise RunFileError(f"only {x.shape[0]} complete Morris trajectories")
     u, scale = unit_scale(des, x)
     ee = elementary_effects(u, yt, which)
-    return {"output": name, "time": ds["time"].values[k], "inputs": des.names,
+    return {"output": name, "time": sel.time, "inputs": des.names,
             "trajectories": int(x.shape[0]), "trajectories_dropped": dropped, "scale": scale,
             "mu": ee.mean(axis=0), "mu_star": np.abs(ee).mean(axis=0),
             "sigma": ee.std(axis=0, ddof=1)}

@@ -126,6 +126,34 @@ def plot(ds, kind="states", states=None, outputs=None, title=None):
     return fig
 
 
+def plot_output(ds, name, title=None):
+    """One state or output: percentile bands over time, or the histogram of an output that is
+    one number per sample."""
+    da = response(ds, name)
+    values = np.asarray(da.values, float)
+    if "time" in da.dims:
+        fig, axes = _figure(1)
+        n = _bands(axes[0], ds["time"].values, values)
+        axes[0].set_ylabel(_label(name, units(ds.attrs.get("scene_yaml", "")).get(name)))
+        axes[0].set_xlabel("time [s]")
+        axes[0].legend(fontsize=8, loc="best")
+    else:
+        values = values[~np.isnan(values)]
+        if values.size == 0:
+            raise RunFileError("no completed samples to plot")
+        fig, ax = plt.subplots(figsize=(7.5, 3.6))
+        axes = [ax]
+        ax.hist(values, bins=min(40, max(5, values.size // 5)), color="C0", alpha=0.8)
+        ax.set_xlabel(name)
+        ax.set_ylabel("samples")
+        n = values.size
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    fig.suptitle(f"{title or ''}  ({n} completed samples)".strip())
+    fig.tight_layout()
+    return fig
+
+
 def save(fig, path):
     fig.savefig(path, dpi=110)
     plt.close(fig)

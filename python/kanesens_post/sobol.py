@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .io import Design, RunFileError, response, time_index
+from .io import Design, RunFileError, select
 
 
 def saltelli_blocks(des: Design, y: np.ndarray):
@@ -75,13 +75,10 @@ def bootstrap(blocks: np.ndarray, n_boot: int, seed: int = 0, level: float = 0.9
 
 def analyze(ds, des: Design, name: str, at=None, n_boot: int = 200, seed: int = 0,
             over_time: bool = False) -> dict:
-    """Indices of series `name` at time `at` (nearest output time) or at every time."""
-    series = response(ds, name)
-    if over_time:
-        y, times = np.asarray(series.values, float), ds["time"].values
-    else:
-        k = time_index(ds, at)
-        y, times = np.asarray(series.isel(time=k).values, float), ds["time"].values[k]
+    """Indices of `name` at time `at` (nearest output time), at every time, or of an output
+    that is one number per sample (neither)."""
+    sel = select(ds, name, at, over_time)
+    y, times = sel.y, sel.time
     blocks, dropped = saltelli_blocks(des, y)
     if blocks.shape[0] < 2:
         raise RunFileError(f"only {blocks.shape[0]} complete Saltelli base points")

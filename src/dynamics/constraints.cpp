@@ -3,11 +3,14 @@
 //     M u̇ = f + Aᵀλ,   A u̇ = −(Ȧu + ȧ0)  =: b
 // solved as u̇ = M⁻¹f + M⁻¹Aᵀλ with (A M⁻¹ Aᵀ) λ = b − A M⁻¹ f. A M⁻¹ Aᵀ is factored by a
 // pivoted Cholesky; when constraints are redundant (rank r < m) λ is the minimum-norm solution.
+#include <array>
 #include <cmath>
 
 #include "math/dual.hpp"
+#include "math/multi_dual.hpp"
 #include "math/cholesky.hpp"
 #include "dynamics/equations.hpp"
+#include "dynamics/frames.hpp"
 #include "math/planar.hpp"
 
 namespace kanesens::dynamics {
@@ -18,49 +21,36 @@ Vec3<S> vec3(const Workspace<S>& ws, const Slot3& s) {
   return {ws.values[s[0]], ws.values[s[1]], ws.values[s[2]]};
 }
 
-// World position, velocity and bias acceleration (u̇ = 0) of a point fixed in body b (−1: ground).
+// A body point's velocity and bias acceleration (u̇ = 0), world components:
+// v = v_Q + ω × o, a = a_Q + α × o + ω × v (o = offset from Q_b).
 template <class S>
-void point_kinematics(const Workspace<S>& ws, int b, const Vec3<S>& r, Vec3<S>& p, Vec3<S>& v, Vec3<S>& a) {
-  if (b < 0) {
-    p = r;
+void point_motion(const Workspace<S>& ws, const BodyPoint<S>& p, Vec3<S>& v, Vec3<S>& a) {
+  if (p.body < 0) {
     v.setZero();
     a.setZero();
     return;
   }
-  p = ws.com[b] + ws.R[b] * r;
-  const Vec3<S> w = ws.velocity[b].template head<3>();
-  v = ws.velocity[b].template tail<3>() + w.cross(p);
-  const Vec3<S> alpha = ws.bias_acceleration[b].template head<3>();
-  a = ws.bias_acceleration[b].template tail<3>() + alpha.cross(p) + w.cross(v);
+  const Vec6<S>& V = ws.velocity[p.body];
+  const Vec6<S>& A = ws.bias_acceleration[p.body];
+  const Vec3<S> w = V.template head<3>();
+  v = V.template tail<3>() + w.cross(p.offset);
+  a = A.template tail<3>() + A.template head<3>().cross(p.offset) + w.cross(v);
 }
 
-// A rolling constraint's contact point P = c + r d, d = −unit(n − (n·a) a): the wheel point
-// nearest the plane (a: wheel axis, n: plane normal, both world, unit).
-template <class S>
-struct RollingContact {
-  Vec3<S> a, n, w, wh, P;
-  S wn;
-};
-template <class S>
-RollingContact<S> rolling_contact(const Workspace<S>& ws, const Constraint& c) {
-  using std::sqrt;
-  RollingContact<S> rc;
-  const int b = c.body;
-  rc.a = (ws.R[b] * vec3(ws, c.axis)).normalized();
-  rc.n = vec3(ws, c.normal).normalized();
-  rc.w = rc.n - rc.n.dot(rc.a) * rc.a;
-  rc.wn = sqrt(rc.w.squaredNorm());
-  rc.wh = rc.w / rc.wn;
-  rc.P = ws.com[b] - ws.values[c.radius] * rc.wh;
-  return rc;
-}
-
-// Column k of the velocity of a point p fixed in body b: s_k.lin + s_k.ang × p (0 if k does not move b).
-template <class S>
-Vec3<S> point_partial(const Model& m, const Workspace<S>& ws, int b, int k, const Vec3<S>& p) {
-  if (b < 0 || !m.moves[b][k]) return Vec3<S>::Zero();
-  const Vec6<S>& s = ws.partial[k];
-  return s.template tail<3>() + s.template head<3>().cross(p);
+// Calls add(k, V_k) for every speed k moving body b, V_k the partial velocity of the point at
+// offset o from Q_b: L_k + Ω_k × (P − Q_k), with P − Q_k carried joint by joint to the root.
+template <class S, class Add>
+void for_each_point_partial(const Model& m, const Workspace<S>& ws, int b, Vec3<S> o, Add&& add) {
+  while (b >= 0) {
+    const Joint& J = m.joints[m.bodies[b].joint];
+    for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) {
+      const Vec6<S>& s = ws.partial[k];
+      if (J.speeds[k - J.u_offset].rotation) add(k, Vec3<S>(s.template head<3>().cross(o)));
+      else add(k, Vec3<S>(s.template tail<3>()));
+    }
+    o += ws.joint_offset[m.bodies[b].joint];
+    b = m.bodies[b].parent;
+  }
 }
 
 // g, the velocity form and the bias of a general position constraint g(q, t) = 0 on scalar S.
@@ -135,6 +125,29 @@ void general_velocity(const Model& m, Workspace<S>& ws, const Constraint& c, int
 }  // namespace
 
 template <class S>
+void rolling_plane_basis(const Vec3<S>& n, Vec3<S>& t1, Vec3<S>& t2) {
+  using std::abs;
+  using std::sqrt;
+  // The world axis least aligned with n (x unless n is within ~25° of ±x), projected.
+  const Vec3<S> e = abs(value_of(n[0])) < 0.9 ? Vec3<S>(S(1), S(0), S(0)) : Vec3<S>(S(0), S(1), S(0));
+  const Vec3<S> t = e - n.dot(e) * n;
+  t1 = t / sqrt(t.squaredNorm());
+  t2 = n.cross(t1);
+}
+
+template <class S>
+S rolling_contact_height(const Model& m, const Workspace<S>& ws, const Constraint& c) {
+  using std::sqrt;
+  const int b = c.body;
+  const Vec3<S> a = (ws.R[b] * vec3(ws, c.axis)).normalized();
+  const Vec3<S> n = vec3(ws, c.normal).normalized();
+  const S na = n.dot(a);
+  // n·P = n·c − r |n − (n·a) a|, |n − (n·a) a|² = 1 − (n·a)².
+  // The height is a world quantity: the wheel center's world position, formed here.
+  return n.dot(world_point(m, ws, b, Vec3<S>::Zero().eval())) - ws.values[c.radius] * sqrt(S(1) - na * na) - ws.values[c.height];
+}
+
+template <class S>
 void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u, const DynamicsOptions& options) {
   using std::sqrt;
   if (m.evaluate_planar()) {
@@ -155,26 +168,35 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
     switch (c.kind) {
       case Constraint::Kind::coincident:
       case Constraint::Kind::distance: {
-        Vec3<S> pa, va, aa, pb, vb, ab;
-        point_kinematics(ws, c.body_a, vec3(ws, c.point_a), pa, va, aa);
-        point_kinematics(ws, c.body_b, vec3(ws, c.point_b), pb, vb, ab);
+        const BodyPoint<S> pa = body_point(m, ws, c.body_a, vec3(ws, c.point_a));
+        const BodyPoint<S> pb = body_point(m, ws, c.body_b, vec3(ws, c.point_b));
+        Vec3<S> va, aa, vb, ab;
+        point_motion(ws, pa, va, aa);
+        point_motion(ws, pb, vb, ab);
+        const Vec3<S> d = separation(pa, pb);  // pb − pa
         if (c.kind == Constraint::Kind::coincident) {
+          for (int i = 0; i < c.nrows; ++i)
+            for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0 + i, k) = S(0);
+          for_each_point_partial(m, ws, c.body_a, pa.offset, [&](int k, const Vec3<S>& V) {
+            for (int i = 0; i < c.nrows; ++i) ws.constraint_matrix(r0 + i, k) += V[c.components[i]];
+          });
+          for_each_point_partial(m, ws, c.body_b, pb.offset, [&](int k, const Vec3<S>& V) {
+            for (int i = 0; i < c.nrows; ++i) ws.constraint_matrix(r0 + i, k) -= V[c.components[i]];
+          });
           for (int i = 0; i < c.nrows; ++i) {
             const int comp = c.components[i];
-            for (int k = 0; k < m.nu; ++k)
-              ws.constraint_matrix(r0 + i, k) =
-                  point_partial(m, ws, c.body_a, k, pa)[comp] - point_partial(m, ws, c.body_b, k, pb)[comp];
-            ws.position_residual[r0 + i] = pa[comp] - pb[comp];
+            ws.position_residual[r0 + i] = -d[comp];
             ws.velocity_residual[r0 + i] = va[comp] - vb[comp];
             ws.constraint_bias[r0 + i] = -(aa[comp] - ab[comp]);
           }
         } else {
-          const Vec3<S> d = pb - pa, dd = vb - va;
+          const Vec3<S> dd = vb - va;
           const S L = sqrt(d.squaredNorm());
           const Vec3<S> e = d / L;
           const S ed = e.dot(dd);
-          for (int k = 0; k < m.nu; ++k)
-            ws.constraint_matrix(r0, k) = e.dot(point_partial(m, ws, c.body_b, k, pb) - point_partial(m, ws, c.body_a, k, pa));
+          for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0, k) = S(0);
+          for_each_point_partial(m, ws, c.body_b, pb.offset, [&](int k, const Vec3<S>& V) { ws.constraint_matrix(r0, k) += e.dot(V); });
+          for_each_point_partial(m, ws, c.body_a, pa.offset, [&](int k, const Vec3<S>& V) { ws.constraint_matrix(r0, k) -= e.dot(V); });
           ws.position_residual[r0] = L - ws.values[c.length];
           ws.velocity_residual[r0] = ed;
           ws.constraint_bias[r0] = -(e.dot(ab - aa) + (dd.squaredNorm() - ed * ed) / L);
@@ -196,27 +218,44 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         else general_velocity(m, ws, c, r0, q, u);
         break;
       case Constraint::Kind::rolling: {
+        // Contact point P = c + r d, d = −unit(n − (n·a) a): the wheel point nearest the plane.
+        // Rows in the plane's basis (t1, t2, n): two no-slip rows and the normal row, which is
+        // the velocity form of the contact height (rolling_contact_height).
+        // Offsets from the wheel's Q: c − Q = o_c, P − Q = o_c + r d.
         const int b = c.body;
-        const RollingContact<S> rc = rolling_contact(ws, c);
-        const Vec3<S>&a = rc.a, &n = rc.n, &wh = rc.wh, &P = rc.P;
-        const S wn = rc.wn, radius = ws.values[c.radius];
+        const Vec3<S> a = (ws.R[b] * vec3(ws, c.axis)).normalized();
+        const Vec3<S> n = vec3(ws, c.normal).normalized();
+        const Vec3<S> w = n - n.dot(a) * a;
+        const S wn = sqrt(w.squaredNorm());
+        const Vec3<S> wh = w / wn;
+        const S radius = ws.values[c.radius];
+        const Vec3<S> o_c = point_offset(ws, b, Vec3<S>::Zero().eval());
+        const Vec3<S> o_P = o_c - radius * wh;
         const Vec3<S> omega = ws.velocity[b].template head<3>();
-        const Vec3<S> vO = ws.velocity[b].template tail<3>();
-        const Vec3<S> vc = vO + omega.cross(ws.com[b]);
+        const Vec3<S> vQ = ws.velocity[b].template tail<3>();
+        const Vec3<S> vc = vQ + omega.cross(o_c);
         // Ṗ = v_c + r ḋ, with ȧ = ω × a, ẇ = −(ȧ·n) a − (a·n) ȧ, ḋ = −(ẇ − ŵ(ŵ·ẇ))/|w|.
         const Vec3<S> adot = omega.cross(a);
         const Vec3<S> wdot = -adot.dot(n) * a - a.dot(n) * adot;
         const Vec3<S> ddot = -(wdot - wh * wh.dot(wdot)) / wn;
         const Vec3<S> Pdot = vc + radius * ddot;
         const Vec3<S> alpha = ws.bias_acceleration[b].template head<3>();
-        const Vec3<S> bias = ws.bias_acceleration[b].template tail<3>() + alpha.cross(P) + omega.cross(Pdot);
-        const Vec3<S> vP = vO + omega.cross(P);
+        const Vec3<S> bias = ws.bias_acceleration[b].template tail<3>() + alpha.cross(o_P) + omega.cross(Pdot);
+        const Vec3<S> vP = vQ + omega.cross(o_P);
+        std::array<Vec3<S>, 3> e;
+        rolling_plane_basis(n, e[0], e[1]);
+        e[2] = n;
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0 + i, k) = S(0);
+        for_each_point_partial(m, ws, b, o_P, [&](int k, const Vec3<S>& V) {
+          for (int i = 0; i < 3; ++i) ws.constraint_matrix(r0 + i, k) = e[i].dot(V);
+        });
         for (int i = 0; i < 3; ++i) {
-          for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0 + i, k) = point_partial(m, ws, b, k, P)[i];
-          ws.velocity_residual[r0 + i] = vP[i];
-          ws.constraint_bias[r0 + i] = -bias[i];
+          ws.velocity_residual[r0 + i] = e[i].dot(vP);
+          ws.constraint_bias[r0 + i] = -e[i].dot(bias);
           ws.position_residual[r0 + i] = S(0);
         }
+        ws.position_residual[r0 + 2] = rolling_contact_height(m, ws, c);
         break;
       }
     }
@@ -229,19 +268,13 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
 }
 
 template <class S>
-S rolling_height(const Workspace<S>& ws, const Constraint& c) {
-  const RollingContact<S> rc = rolling_contact(ws, c);
-  return rc.n.dot(rc.P) - ws.values[c.height];
-}
-
-template <class S>
 bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
   using std::sqrt;
   const int n = m.nu, nc = m.nconstraint_rows;
   // M⁻¹ Aᵀ, column by column.
   for (int j = 0; j < nc; ++j) {
     for (int k = 0; k < n; ++k) ws.scratch_nu[k] = ws.constraint_matrix(j, k);
-    math::cholesky_solve(ws.cholesky.data(), n, n, ws.scratch_nu.data());
+    apply_mass_inverse(m, ws, ws.scratch_nu.data());
     for (int k = 0; k < n; ++k) ws.minv_at(k, j) = ws.scratch_nu[k];
   }
   // Schur complement and right-hand side b − A M⁻¹ f (ws.udot holds M⁻¹ f).
@@ -256,7 +289,9 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
       ws.schur(j, i) = s;
     }
   }
-  // Pivoted Cholesky P W Pᵀ = L Lᵀ, pivots chosen on values; stops at rank r.
+  // Pivoted Cholesky P W Pᵀ = L Lᵀ, pivots chosen on values; stops at rank r. (Eigen has no
+  // rank-revealing Cholesky: its LDLT pivots but neither stops at the rank nor gives the
+  // factor blocks the minimum-norm multipliers below are computed from.)
   auto& W = ws.schur_factor;
   W = ws.schur;
   auto& perm = ws.schur_pivots;
@@ -322,7 +357,8 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
         for (int i = 0; i < nc; ++i) s += N(i, a) * N(i, b);
         G[b * ldg + a] = s;
       }
-    math::cholesky_factor(G, ldg, G, ldg, d);
+    // NᵀN has an identity block, so only a non-finite N (a non-finite system) fails here.
+    if (!math::cholesky_factor(G, ldg, G, ldg, d)) return false;
     for (int a = 0; a < d; ++a) {  // y = Nᵀ λ_p, kept in schur_rhs (no longer needed)
       S s = S(0);
       for (int i = 0; i < nc; ++i) s += N(i, a) * lam[i];
@@ -339,12 +375,17 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
 }
 
 #define KANESENS_INSTANTIATE(S)                                                          \
+  template void rolling_plane_basis<S>(const Vec3<S>&, Vec3<S>&, Vec3<S>&);               \
+  template S rolling_contact_height<S>(const Model&, const Workspace<S>&, const Constraint&);          \
   template void compute_constraints<S>(const Model&, Workspace<S>&, const S*, const S*,   \
                                        const DynamicsOptions&);                          \
-  template bool solve_constrained_accelerations<S>(const Model&, Workspace<S>&);          \
-  template S rolling_height<S>(const Workspace<S>&, const Constraint&);
+  template bool solve_constrained_accelerations<S>(const Model&, Workspace<S>&);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::MultiDual<4>)
+KANESENS_INSTANTIATE(math::MultiDual<8>)
+KANESENS_INSTANTIATE(math::MultiDual<12>)
+KANESENS_INSTANTIATE(math::MultiDual<16>)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

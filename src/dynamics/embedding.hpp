@@ -33,11 +33,19 @@ struct EmbeddingScratch {
   VecX<S> r;        // nd
   VecX<S> ft;       // ni
   double conditioning = 1;  // |largest| / |smallest| pivot of A_d at the last factorisation
+  // max |(A_d⁻¹ A_i)_jk| at the last reconstruct_speeds: how strongly the dependent speeds follow
+  // the independent ones. It grows without bound as the partition degrades (a dependent speed's
+  // coefficients vanish), however A_d is scaled.
+  double amplification = 0;
 };
 
 // Picks the sets at (t, q) from A (doubles): rows by a rank-revealing QR of Aᵀ, dependent
 // speeds by a column-pivoted QR of those rows (the best-conditioned A_d).
 EmbeddingSets choose_embedding(const Eigen::MatrixXd& A);
+
+// The amplification (see EmbeddingScratch) of the partition `sets` of A (doubles): infinity if
+// its A_d is singular.
+double embedding_amplification(const Eigen::MatrixXd& A, const EmbeddingSets& sets);
 
 // Full speeds u (nu) from q and u_i at t. Leaves positions evaluated in ws. False if A_d is
 // singular.

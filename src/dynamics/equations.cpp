@@ -2,34 +2,60 @@
 #include <cmath>
 
 #include "math/dual.hpp"
+#include "math/multi_dual.hpp"
 #include "math/cholesky.hpp"
 #include "dynamics/equations.hpp"
 #include "dynamics/force_elements.hpp"
+#include "dynamics/frames.hpp"
 #include "dynamics/planar_stages.hpp"
 
 namespace kanesens::dynamics {
 
 using math::cross_force;
-using math::wrench_at_origin;
+using math::force_to_parent;
+
+namespace {
+// s · F for a partial velocity s = (a, 0) (rotation: a·τ) or (0, a) (translation: a·F).
+template <class S>
+S power(const Vec6<S>& s, bool rotation, const Vec6<S>& F) {
+  return rotation ? S(s.template head<3>().dot(F.template head<3>())) : S(s.template tail<3>().dot(F.template tail<3>()));
+}
+}  // namespace
 
 template <class S>
 void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
   if (m.evaluate_planar()) return detail::compute_mass_matrix_planar(m, ws);
+  // Composite rigid bodies (Featherstone 2008 §6.2), each at its own reference point.
   const int nb = m.nbody();
   for (int b = 0; b < nb; ++b) ws.composite_inertia[b] = ws.spatial_inertia[b];
   for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
     const Joint& J = m.joints[*it];
-    if (J.parent >= 0) ws.composite_inertia[J.parent] += ws.composite_inertia[J.child];
+    if (J.parent >= 0) ws.composite_inertia[J.child].add_to_parent(ws.joint_offset[*it], ws.composite_inertia[J.parent]);
   }
-  ws.mass_matrix.setZero();
+  if (!ws.mass_matrix_full) ws.mass_matrix.setZero();
+  // M_kl = s_k · (I^c_C s_l) for every speed k moving C, the momentum I^c_C s_l carried from Q_C
+  // to each ancestor's reference point on the way to the root.
   for (const Joint& J : m.joints) {
-    const std::vector<int>& moved_by = m.ancestor_speeds[J.child];
+    const SpatialInertia<S>& Ic = ws.composite_inertia[J.child];
     for (int l = J.u_offset; l < J.u_offset + J.nu; ++l) {
-      const Vec6<S> F = ws.composite_inertia[J.child] * ws.partial[l];
-      for (int k : moved_by) {
-        const S Mkl = ws.partial[k].dot(F);
+      const bool rot_l = J.speeds[l - J.u_offset].rotation;
+      Vec6<S> F = rot_l ? Ic.times_rotation(ws.partial[l].template head<3>())
+                        : Ic.times_translation(ws.partial[l].template tail<3>());
+      for (int k = J.u_offset; k <= l; ++k) {
+        const S Mkl = power(ws.partial[k], J.speeds[k - J.u_offset].rotation, F);
         ws.mass_matrix(k, l) = Mkl;
         ws.mass_matrix(l, k) = Mkl;
+      }
+      for (int b = J.child; m.bodies[b].parent >= 0;) {
+        const int jb = m.bodies[b].joint;
+        F.template head<3>() += ws.joint_offset[jb].cross(F.template tail<3>());
+        b = m.bodies[b].parent;
+        const Joint& K = m.joints[m.bodies[b].joint];
+        for (int k = K.u_offset; k < K.u_offset + K.nu; ++k) {
+          const S Mkl = power(ws.partial[k], K.speeds[k - K.u_offset].rotation, F);
+          ws.mass_matrix(k, l) = Mkl;
+          ws.mass_matrix(l, k) = Mkl;
+        }
       }
     }
   }
@@ -41,32 +67,62 @@ void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
     detail::compute_forcing_planar(m, ws);
   } else {
     const int nb = m.nbody();
-    // Applied minus inertial wrench of each body at O: gravity, then −(I A₀ + V ×* I V).
+    // Applied minus inertial wrench of each body at its Q: gravity m g at the mass center
+    // (moment h × g), then −(I A₀ + V ×* I V).
     for (int b = 0; b < nb; ++b) {
       const Vec6<S>& V = ws.velocity[b];
       const SpatialInertia<S>& I = ws.spatial_inertia[b];
-      ws.wrench[b] = wrench_at_origin<S>(ws.com[b], ws.mass[b] * ws.gravity) -
-                     (I * ws.bias_acceleration[b] + cross_force<S>(V, I * V));
+      Vec6<S>& W = ws.wrench[b];
+      W.template head<3>() = I.h.cross(ws.gravity);
+      W.template tail<3>() = I.m * ws.gravity;
+      W -= I * ws.bias_acceleration[b] + cross_force<S>(V, I * V);
     }
     detail::for_each_force_element(m, ws, [&](int b, const Vec6<S>& w) { ws.wrench[b] += w; });
     for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
       const Joint& J = m.joints[*it];
-      if (J.parent >= 0) ws.wrench[J.parent] += ws.wrench[J.child];
+      if (J.parent >= 0) ws.wrench[J.parent] += force_to_parent<S>(ws.wrench[J.child], ws.joint_offset[*it]);
     }
     for (const Joint& J : m.joints)
-      for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) ws.forcing[k] = ws.partial[k].dot(ws.wrench[J.child]);
+      for (int k = J.u_offset; k < J.u_offset + J.nu; ++k)
+        ws.forcing[k] = power(ws.partial[k], J.speeds[k - J.u_offset].rotation, ws.wrench[J.child]);
   }
   detail::add_joint_spring_dampers(m, ws, q, u);
 }
 
 template <class S>
 bool solve_accelerations(const Model& m, Workspace<S>& ws) {
-  // M = Uᵀ U into ws.cholesky (kept: solve_constrained_accelerations reuses it), u̇ = M⁻¹ f.
+  // M = Uᵀ U (kept: solve_constrained_accelerations reuses it), u̇ = M⁻¹ f. On a multi-tangent
+  // scalar only M's value is factored (ws.value_factor).
   const int n = m.nu;
-  if (!math::cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n)) return false;
+  if constexpr (math::is_multi_dual_v<S>) {
+    double* U = ws.value_factor.data();
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i <= j; ++i) U[j * n + i] = ws.mass_matrix(i, j).v;
+    if (!math::cholesky_factor(U, n, U, n, n)) return false;
+  } else {
+    if (!math::cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n)) return false;
+  }
   ws.udot = ws.forcing;
-  math::cholesky_solve(ws.cholesky.data(), n, n, ws.udot.data());
+  apply_mass_inverse(m, ws, ws.udot.data());
   return true;
+}
+
+template <class S>
+void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x) {
+  const int n = m.nu;
+  if constexpr (math::is_multi_dual_v<S>) {
+    // x0 = M0⁻¹ b0, then M0 x_i = b_i − M_i x0 for every tangent i, with M0's factor.
+    const double* U = ws.value_factor.data();
+    double* x0 = ws.value_solution.data();
+    for (int i = 0; i < n; ++i) x0[i] = x[i].v;
+    math::cholesky_solve(U, n, n, x0);
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < n; ++k) x[i].subtract_tangents(ws.mass_matrix(i, k), x0[k]);
+    math::cholesky_solve_with_value_factor(U, n, n, x);
+    for (int i = 0; i < n; ++i) x[i].v = x0[i];
+  } else {
+    math::cholesky_solve(ws.cholesky.data(), n, n, x);
+  }
 }
 
 template <class S>
@@ -76,6 +132,16 @@ void evaluate_mass_matrix_and_forcing(const Model& m, Workspace<S>& ws, const S&
   compute_velocity(m, ws, u);
   compute_mass_matrix(m, ws);
   compute_forcing(m, ws, q, u);
+}
+
+const char* describe(RhsFailure failure) {
+  switch (failure) {
+    case RhsFailure::none: return "no failure";
+    case RhsFailure::mass_matrix_not_positive_definite: return "mass matrix is not positive definite";
+    case RhsFailure::constraints_degenerate:
+      return "the constraint system is degenerate (every constraint row vanishes, or it is not finite)";
+  }
+  return "?";
 }
 
 template <class S>
@@ -89,19 +155,23 @@ void evaluate_constraints(const Model& m, Workspace<S>& ws, const S& t, const S*
 }
 
 template <class S>
-bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot, const DynamicsOptions& options) {
+bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot, const DynamicsOptions& options,
+                  RhsFailure* failure) {
   const S* q = y;
   const S* u = y + m.nq;
   evaluate_mass_matrix_and_forcing(m, ws, t, q, u);
   compute_kinematic_derivatives(m, ws, q, u);
-  bool ok = solve_accelerations(m, ws);
-  if (ok && m.nconstraint_rows > 0) {
+  RhsFailure why = RhsFailure::none;
+  if (!solve_accelerations(m, ws)) {
+    why = RhsFailure::mass_matrix_not_positive_definite;
+  } else if (m.nconstraint_rows > 0) {
     compute_constraints(m, ws, q, u, options);
-    solve_constrained_accelerations(m, ws);
+    if (!solve_constrained_accelerations(m, ws)) why = RhsFailure::constraints_degenerate;
   }
   for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
   for (int i = 0; i < m.nu; ++i) ydot[m.nq + i] = ws.udot[i];
-  return ok;
+  if (failure) *failure = why;
+  return why == RhsFailure::none;
 }
 
 template <class S>
@@ -118,8 +188,14 @@ S kinetic_energy(const Model& m, const Workspace<S>& ws) {
 
 template <class S>
 S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
+  // Gravity: −Σ m g·c, with c = anchor + (Q − anchor) + (c − Q) formed here (world positions;
+  // the anchor's part is the potential's constant for a fixed base).
   S V = S(0);
-  for (int b = 0; b < m.nbody(); ++b) V -= ws.mass[b] * ws.gravity.dot(ws.com[b]);
+  for (int b = 0; b < m.nbody(); ++b) {
+    const Vec3<S>& anchor = ws.tree_anchor[m.bodies[b].root_joint];
+    const Vec3<S> c_rel = ws.tree_position[b] + ws.R[b] * (-ws.reference_point[b]);
+    V -= ws.mass[b] * ws.gravity.dot(anchor) + ws.mass[b] * ws.gravity.dot(c_rel);
+  }
   for (const Joint& J : m.joints)
     if (J.spring_k >= 0) {
       const S x = q[J.q_offset] - ws.values[J.spring_rest];
@@ -127,11 +203,10 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
     }
   for (const Force& f : m.forces) {
     if (f.kind != Force::Kind::spring_damper) continue;
-    Vec3<S> pa, va, pb, vb;
-    detail::point_state(ws, f.body_a, detail::slot_vec3(ws, f.point_a), pa, va);
-    detail::point_state(ws, f.body_b, detail::slot_vec3(ws, f.point_b), pb, vb);
+    const BodyPoint<S> pa = body_point(m, ws, f.body_a, detail::slot_vec3(ws, f.point_a));
+    const BodyPoint<S> pb = body_point(m, ws, f.body_b, detail::slot_vec3(ws, f.point_b));
     using std::sqrt;
-    const S x = sqrt((pb - pa).squaredNorm()) - ws.values[f.rest];
+    const S x = sqrt(separation(pa, pb).squaredNorm()) - ws.values[f.rest];
     V += S(0.5) * ws.values[f.k] * x * x;
   }
   return V;
@@ -141,16 +216,21 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
   template void compute_mass_matrix<S>(const Model&, Workspace<S>&);                            \
   template void compute_forcing<S>(const Model&, Workspace<S>&, const S*, const S*);            \
   template bool solve_accelerations<S>(const Model&, Workspace<S>&);                            \
+  template void apply_mass_inverse<S>(const Model&, Workspace<S>&, S*);                         \
   template void evaluate_mass_matrix_and_forcing<S>(const Model&, Workspace<S>&, const S&,      \
                                                     const S*, const S*);                        \
   template void evaluate_constraints<S>(const Model&, Workspace<S>&, const S&, const S*, const S*,   \
                                         const DynamicsOptions&);                                  \
   template bool evaluate_rhs<S>(const Model&, Workspace<S>&, const S&, const S*, S*,             \
-                                const DynamicsOptions&);                                        \
+                                const DynamicsOptions&, RhsFailure*);                           \
   template S kinetic_energy<S>(const Model&, const Workspace<S>&);                              \
   template S potential_energy<S>(const Model&, const Workspace<S>&, const S*);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::MultiDual<4>)
+KANESENS_INSTANTIATE(math::MultiDual<8>)
+KANESENS_INSTANTIATE(math::MultiDual<12>)
+KANESENS_INSTANTIATE(math::MultiDual<16>)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

@@ -12,10 +12,14 @@
 //
 // For speed k of joint j with child body C and joint point Q, the partial angular velocity is
 // Ω_k and the partial velocity of a point P moved by C is V_k(P) = L_k + Ω_k × (P − Q)
-// (Kane & Levinson 1985, ch. 2). Stored as the spatial vector s_k = (Ω_k, L_k + Q × Ω_k) at the
-// world origin, M_kl = Σ_i m_i V_ik·V_il + Ω_ik·I_i Ω_il = s_kᵀ I^c s_l with I^c the composite
-// spatial inertia of the bodies both speeds move, and f_k = s_k · (Σ of the bodies' applied
-// minus inertial wrenches), which is SymPy KanesMethod's `mass_matrix` / `forcing`.
+// (Kane & Levinson 1985, ch. 2). Each is held as the spatial vector s_k = (Ω_k, L_k) at Q, with
+// world-aligned axes (dynamics/workspace.hpp); M_kl = Σ_i m_i V_ik·V_il + Ω_ik·I_i Ω_il =
+// s_k · I^c s_l with I^c the composite spatial inertia of the bodies both speeds move, and
+// f_k = s_k · (Σ of the bodies' applied minus inertial wrenches), which is SymPy KanesMethod's
+// `mass_matrix` / `forcing`. The sums are formed by the composite-rigid-body and Newton–Euler
+// recursions (Featherstone 2008 ch. 5–6), each body's quantities at its own joint point and
+// carried between neighbours by the joint's offset, so the numbers do not depend on where the
+// mechanism stands.
 #pragma once
 #include "dynamics/options.hpp"
 #include "dynamics/workspace.hpp"
@@ -35,6 +39,11 @@ void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u);
 // Returns false if M is not positive definite (a singular configuration or bad inertia).
 template <class S>
 bool solve_accelerations(const Model& m, Workspace<S>& ws);
+// x ← M⁻¹ x (nu entries) with the factor of the last solve_accelerations. On a multi-tangent
+// scalar the factor is of M's value and the tangents solve M0 x_i = b_i − M_i x0 (the derivative
+// of M x = b), so no factorisation is done on tangents.
+template <class S>
+void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x);
 template <class S>
 void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q, const S* u);
 
@@ -44,21 +53,33 @@ void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q,
 template <class S>
 void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* u,
                          const DynamicsOptions& options = {});
-// The holonomic part of a `rolling` constraint after compute_position: the contact point's height
-// above the plane, n̂·P − height. Its rows keep no position residual (they are the contact
-// point's velocity, world components), but their combination n̂·(A u) is exactly the rate of this
-// height, so it is a position constraint that linearization (sim/linearize.hpp) can solve for.
+// A `rolling` constraint's rows are in the plane's basis (t1, t2, n): n the unit normal, t1 the
+// world x axis projected onto the plane (the y axis when n is within ~25° of ±x), t2 = n × t1.
+// Rows t1, t2 are the no-slip (nonholonomic) rows; row n is holonomic: its velocity form is the
+// derivative of the contact height h = n·P − height of the wheel's lowest point P = c − r ŵ,
+// ŵ = unit(n − (n·a) a) (a the axle), so A's n row is ∂h/∂q N(q). Needs the position stage.
 template <class S>
-S rolling_height(const Workspace<S>& ws, const Constraint& c);
+void rolling_plane_basis(const Vec3<S>& n, Vec3<S>& t1, Vec3<S>& t2);
+template <class S>
+S rolling_contact_height(const Model& m, const Workspace<S>& ws, const Constraint& c);
+
 // After solve_accelerations (ws.udot = M⁻¹ f): the multipliers λ and u̇ = M⁻¹(f + Aᵀλ).
+// Returns false when no multiplier can be determined: every constraint row vanishes (rank 0)
+// or the system is not finite. Redundant rows (0 < rank < rows) get the minimum-norm λ.
 template <class S>
 bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws);
 
-// The whole right-hand side: y = [q; u] (nq + nu) → ydot = [q̇; u̇]. Returns false if M is
-// singular. Parameters must have been set.
+// Why evaluate_rhs could not compute u̇ at a state.
+enum class RhsFailure { none, mass_matrix_not_positive_definite, constraints_degenerate };
+// "mass matrix is not positive definite", ... (for messages).
+const char* describe(RhsFailure failure);
+
+// The whole right-hand side: y = [q; u] (nq + nu) → ydot = [q̇; u̇]. Returns false if u̇ could
+// not be computed (then `failure`, if given, says why, and ydot must not be used): M is not
+// positive definite, or the constraint system is degenerate. Parameters must have been set.
 template <class S>
 bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* ydot,
-                  const DynamicsOptions& options = {});
+                  const DynamicsOptions& options = {}, RhsFailure* failure = nullptr);
 // The constraint rows at (t, q, u), without M and f: state expressions, position, velocity, q̇,
 // then A, the residuals and the bias (compute_constraints). What every constraint-level use
 // evaluates (projection, consistent initial state, the embedding's speeds).

@@ -1,14 +1,15 @@
 // Position and velocity stages of Kane's equations (see dynamics/equations.hpp).
 #include "math/dual.hpp"
+#include "math/multi_dual.hpp"
 #include "dynamics/equations.hpp"
 #include "dynamics/planar_stages.hpp"
 
 namespace kanesens::dynamics {
 
 using math::axis_angle;
-using math::body_spatial_inertia;
-using math::cross_motion;
+using math::motion_to_child;
 using math::quaternion_rotation;
+using math::rotate_inertia;
 
 template <class S>
 void evaluate_state_expressions(const Model& m, Workspace<S>& ws, const S& t, const S* q, const S* u) {
@@ -27,65 +28,66 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
   for (int ji : m.joint_order) {
     const Joint& J = m.joints[ji];
     const int P = J.parent, C = J.child;
-    const Mat3<S> R_P = P >= 0 ? ws.R[P] : Mat3<S>::Identity();
-    const Vec3<S> c_P = P >= 0 ? ws.com[P] : Vec3<S>::Zero();
+    const Mat3<S>& R_P = P >= 0 ? ws.R[P] : ws.identity;
     const S* qj = q + J.q_offset;
     const Vec3<S>& a = ws.joint_axis[ji];
-    Mat3<S> R_PC = Mat3<S>::Identity();
-    Vec3<S> d = Vec3<S>::Zero();  // child point relative to parent point, parent frame
-    Mat3<S> R_first = Mat3<S>::Identity();  // universal: the first rotation
+    Mat3<S>& R_C = ws.R[C];
+    auto rotate = [&](const Mat3<S>& R_PC) {  // R_C = R_P R_PC
+      if (P >= 0) R_C.noalias() = R_P * R_PC;
+      else R_C = R_PC;
+    };
+    Vec3<S> d = Vec3<S>::Zero();         // the joint's translation, parent frame
+    Vec3<S> first_a2 = Vec3<S>::Zero();  // universal: the second axis carried by the first rotation
     switch (J.type) {
-      case JointType::revolute: R_PC = axis_angle<S>(a, qj[0]); break;
-      case JointType::prismatic: d = qj[0] * a; break;
+      case JointType::revolute: rotate(axis_angle<S>(a, qj[0])); break;
+      case JointType::prismatic:
+        R_C = R_P;
+        d = qj[0] * a;
+        break;
       case JointType::cylindrical:
-        R_PC = axis_angle<S>(a, qj[0]);
+        rotate(axis_angle<S>(a, qj[0]));
         d = qj[1] * a;
         break;
-      case JointType::universal:
-        R_first = axis_angle<S>(a, qj[0]);
-        R_PC = R_first * axis_angle<S>(ws.joint_axis2[ji], qj[1]);
+      case JointType::universal: {
+        const Mat3<S> R_first = axis_angle<S>(a, qj[0]);
+        first_a2.noalias() = R_first * ws.joint_axis2[ji];
+        rotate((R_first * axis_angle<S>(ws.joint_axis2[ji], qj[1])).eval());
         break;
+      }
       case JointType::planar:
         d = qj[0] * ws.plane_e1[ji] + qj[1] * ws.plane_e2[ji];
-        R_PC = axis_angle<S>(a, qj[2]);
+        rotate(axis_angle<S>(a, qj[2]));
         break;
-      case JointType::spherical: R_PC = quaternion_rotation<S>(qj[0], qj[1], qj[2], qj[3]); break;
+      case JointType::spherical: rotate(quaternion_rotation<S>(qj[0], qj[1], qj[2], qj[3])); break;
       case JointType::free:
         d = Vec3<S>(qj[0], qj[1], qj[2]);
-        R_PC = quaternion_rotation<S>(qj[3], qj[4], qj[5], qj[6]);
+        rotate(quaternion_rotation<S>(qj[3], qj[4], qj[5], qj[6]));
         break;
-      case JointType::weld: break;
+      case JointType::weld: R_C = R_P; break;
     }
-    const Vec3<S> Q = c_P + R_P * (ws.parent_point[ji] + d);
-    ws.joint_point[ji] = Q;
-    ws.R[C] = R_P * R_PC;
-    ws.com[C] = Q - ws.R[C] * ws.child_point[ji];
+    // Q_C − Q_P = R_P (lever + d): the joint's parent point from Q_P, then the joint's travel.
+    if (P >= 0) {
+      Vec3<S>& r = ws.joint_offset[ji];
+      r.noalias() = R_P * (ws.joint_lever[ji] + d);
+      ws.tree_position[C] = ws.tree_position[P] + r;
+    } else {
+      ws.tree_anchor[ji] = ws.joint_lever[ji] + d;
+      ws.tree_position[C].setZero();
+    }
 
     for (int k = 0; k < J.nu; ++k) {
       const SpeedAxis& sp = J.speeds[k];
-      Vec3<S> dir;
-      if (sp.in_child_frame) {
-        dir = ws.R[C].col(sp.child_axis);
-      } else if (J.type == JointType::universal && k == 1) {
-        dir = R_P * (R_first * ws.joint_axis2[ji]);
-      } else if (J.type == JointType::planar && k < 2) {
-        dir = R_P * (k == 0 ? ws.plane_e1[ji] : ws.plane_e2[ji]);
-      } else if (J.type == JointType::free && k < 3) {
-        dir = R_P.col(k);
-      } else {
-        dir = R_P * a;
-      }
       Vec6<S>& s = ws.partial[J.u_offset + k];
-      if (sp.rotation) {
-        s.template head<3>() = dir;
-        s.template tail<3>() = Q.cross(dir);
-      } else {
-        s.template head<3>().setZero();
-        s.template tail<3>() = dir;
-      }
+      auto dir = sp.rotation ? s.template head<3>() : s.template tail<3>();
+      if (sp.in_child_frame) dir = R_C.col(sp.child_axis);
+      else if (J.type == JointType::universal && k == 1) dir.noalias() = R_P * first_a2;
+      else if (J.type == JointType::planar && k < 2) dir.noalias() = R_P * (k == 0 ? ws.plane_e1[ji] : ws.plane_e2[ji]);
+      else if (J.type == JointType::free && k < 3) dir = R_P.col(k);
+      else dir.noalias() = R_P * a;
+      if (sp.rotation) s.template tail<3>().setZero();
+      else s.template head<3>().setZero();
     }
-    ws.spatial_inertia[C] =
-        body_spatial_inertia<S>(ws.mass[C], ws.com[C], ws.R[C], ws.inertia_body[C], ws.inertia_world[C]);
+    rotate_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
   }
 }
 
@@ -95,23 +97,38 @@ void compute_velocity(const Model& m, Workspace<S>& ws, const S* u) {
   for (int ji : m.joint_order) {
     const Joint& J = m.joints[ji];
     const int P = J.parent, C = J.child;
-    // prefix[c] = V_P + Σ_{k<c} s_k u_k; prefix[nu] is the child's velocity.
+    // prefix[c] = V_P + Σ_{k<c} s_k u_k at Q_C; prefix[nu] is the child's velocity.
     Vec6<S>* prefix = ws.prefix.data();
-    Vec6<S> A;
+    Vec6<S>& A = ws.bias_acceleration[C];
     if (P >= 0) {
-      prefix[0] = ws.velocity[P];
-      A = ws.bias_acceleration[P];
+      prefix[0] = motion_to_child<S>(ws.velocity[P], ws.joint_offset[ji]);
+      A = motion_to_child<S>(ws.bias_acceleration[P], ws.joint_offset[ji]);
     } else {
       prefix[0].setZero();
       A.setZero();
     }
-    for (int k = 0; k < J.nu; ++k) prefix[k + 1] = prefix[k] + ws.partial[J.u_offset + k] * u[J.u_offset + k];
+    const S* uj = u + J.u_offset;
+    const Vec6<S>* s = ws.partial.data() + J.u_offset;
+    for (int k = 0; k < J.nu; ++k) {
+      prefix[k + 1] = prefix[k];
+      if (J.speeds[k].rotation) prefix[k + 1].template head<3>() += s[k].template head<3>() * uj[k];
+      else prefix[k + 1].template tail<3>() += s[k].template tail<3>() * uj[k];
+    }
     // d/dt s_k = V_F × s_k, F the frame carrying axis k: the parent, moved by the first
     // `carriers` speeds of this joint (universal, planar rotation) or the child (ball, free).
-    for (int k = 0; k < J.nu; ++k)
-      A += cross_motion<S>(prefix[J.speeds[k].carriers], ws.partial[J.u_offset + k]) * u[J.u_offset + k];
+    // (ω, v) × (a, 0) = (ω × a, v × a); (ω, v) × (0, a) = (0, ω × a).
+    for (int k = 0; k < J.nu; ++k) {
+      const Vec6<S>& V = prefix[J.speeds[k].carriers];
+      if (J.speeds[k].rotation) {
+        const Vec3<S> au = s[k].template head<3>() * uj[k];
+        A.template head<3>() += V.template head<3>().cross(au);
+        A.template tail<3>() += V.template tail<3>().cross(au);
+      } else {
+        const Vec3<S> au = s[k].template tail<3>() * uj[k];
+        A.template tail<3>() += V.template head<3>().cross(au);
+      }
+    }
     ws.velocity[C] = prefix[J.nu];
-    ws.bias_acceleration[C] = A;
   }
 }
 
@@ -146,6 +163,10 @@ void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q,
   template void compute_kinematic_derivatives<S>(const Model&, Workspace<S>&, const S*, const S*);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::MultiDual<4>)
+KANESENS_INSTANTIATE(math::MultiDual<8>)
+KANESENS_INSTANTIATE(math::MultiDual<12>)
+KANESENS_INSTANTIATE(math::MultiDual<16>)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

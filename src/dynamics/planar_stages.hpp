@@ -1,6 +1,6 @@
 // The planar evaluation's stages (dynamics/planar.cpp), called by compute_position,
 // compute_velocity, compute_mass_matrix and compute_forcing when Model::evaluate_planar().
-// Internal to dynamics/. Same outputs as the 3-D stages: M, f, R, com, joint_point, velocity.
+// Internal to dynamics/. Same outputs as the 3-D stages: M, f, R, joint offsets, tree positions, velocity.
 #pragma once
 #include "dynamics/workspace.hpp"
 

@@ -1,6 +1,7 @@
 #include "dynamics/workspace.hpp"
 
 #include "math/dual.hpp"
+#include "math/multi_dual.hpp"
 #include "model/parameters.hpp"
 
 namespace kanesens::dynamics {
@@ -13,17 +14,22 @@ Workspace<S>::Workspace(const Model& m)
       values(m.expressions.size()),
       mass(m.nbody()),
       inertia_body(m.nbody()),
+      reference_point(m.nbody()),
+      inertia_local(m.nbody()),
       joint_axis(m.joints.size(), Vec3<S>::Zero()),
       joint_axis2(m.joints.size(), Vec3<S>::Zero()),
       plane_e1(m.joints.size(), Vec3<S>::Zero()),
       plane_e2(m.joints.size(), Vec3<S>::Zero()),
       parent_point(m.joints.size()),
       child_point(m.joints.size()),
+      joint_lever(m.joints.size()),
+      gravity(Vec3<S>::Zero()),
+      identity(Mat3<S>::Identity()),
       R(m.nbody()),
-      com(m.nbody()),
-      joint_point(m.joints.size()),
+      joint_offset(m.joints.size(), Vec3<S>::Zero()),
+      tree_anchor(m.joints.size(), Vec3<S>::Zero()),
+      tree_position(m.nbody()),
       partial(m.nu),
-      inertia_world(m.nbody()),
       spatial_inertia(m.nbody()),
       velocity(m.nbody()),
       bias_acceleration(m.nbody()),
@@ -32,6 +38,8 @@ Workspace<S>::Workspace(const Model& m)
       mass_matrix(m.nu, m.nu),
       forcing(m.nu),
       cholesky(m.nu, m.nu),
+      value_factor(m.nu, m.nu),
+      value_solution(m.nu),
       udot(m.nu),
       qdot(m.nq),
       constraint_matrix(m.nconstraint_rows, m.nu),
@@ -65,6 +73,13 @@ Workspace<S>::Workspace(const Model& m)
   }
   for (Slot s : m.parameter_slots)
     if (m.expressions[s].is_constant()) values[s] = S(m.expressions[s].constant_value());
+  // M has structural zeros only where two speeds move no common body (branches).
+  std::size_t related = 0;
+  for (const Joint& J : m.joints) related += static_cast<std::size_t>(J.nu) * m.ancestor_speeds[J.child].size();
+  const std::size_t n = static_cast<std::size_t>(m.nu);
+  std::size_t within = 0;  // pairs counted twice above: speeds of the same joint
+  for (const Joint& J : m.joints) within += static_cast<std::size_t>(J.nu) * static_cast<std::size_t>(J.nu - 1) / 2;
+  mass_matrix_full = related - within == n * (n + 1) / 2;
 }
 
 namespace {
@@ -91,6 +106,7 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
     if (J.axis2[0] >= 0) ws.joint_axis2[j] = unit_or_zero<S>(vec3(ws, J.axis2));
     ws.parent_point[j] = vec3(ws, J.parent_point);
     ws.child_point[j] = vec3(ws, J.child_point);
+    ws.reference_point[J.child] = ws.child_point[j];
     if (J.type == JointType::planar) {
       // In-plane directions: e1 = unit(x − (x·n) n) (y if n ∥ x), e2 = n × e1.
       const Vec3<S> n = ws.joint_axis[j];
@@ -100,6 +116,12 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
       ws.plane_e2[j] = n.cross(ws.plane_e1[j]);
     }
   }
+  for (std::size_t j = 0; j < m.joints.size(); ++j) {
+    const Joint& J = m.joints[j];
+    ws.joint_lever[j] = J.parent >= 0 ? Vec3<S>(ws.parent_point[j] - ws.reference_point[J.parent]) : ws.parent_point[j];
+  }
+  for (int b = 0; b < m.nbody(); ++b)
+    ws.inertia_local[b] = math::body_inertia_at<S>(ws.mass[b], ws.inertia_body[b], ws.reference_point[b]);
   ws.gravity = vec3(ws, m.gravity);
 }
 
@@ -107,5 +129,13 @@ template struct Workspace<double>;
 template struct Workspace<Dual>;
 template void set_parameters<double>(const Model&, Workspace<double>&, const double*);
 template void set_parameters<Dual>(const Model&, Workspace<Dual>&, const Dual*);
+template struct Workspace<math::MultiDual<4>>;
+template void set_parameters<math::MultiDual<4>>(const Model&, Workspace<math::MultiDual<4>>&, const math::MultiDual<4>*);
+template struct Workspace<math::MultiDual<8>>;
+template void set_parameters<math::MultiDual<8>>(const Model&, Workspace<math::MultiDual<8>>&, const math::MultiDual<8>*);
+template struct Workspace<math::MultiDual<12>>;
+template void set_parameters<math::MultiDual<12>>(const Model&, Workspace<math::MultiDual<12>>&, const math::MultiDual<12>*);
+template struct Workspace<math::MultiDual<16>>;
+template void set_parameters<math::MultiDual<16>>(const Model&, Workspace<math::MultiDual<16>>&, const math::MultiDual<16>*);
 
 }  // namespace kanesens::dynamics

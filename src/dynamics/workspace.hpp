@@ -34,6 +34,12 @@ using model::Slot;
 using model::Slot3;
 using model::SpeedAxis;
 
+// Frames (math/spatial.hpp): every body's spatial quantities are taken at its reference point,
+// the joint point Q_b of its inboard joint (on the body), with world-aligned axes; a joint's
+// offset r_J = Q_child − Q_parent (small: a body length) moves them between neighbours. Bodies
+// know their place in the world only through their tree's anchor (the world position of the
+// root body's Q) plus the offset from it (tree_position): world positions are formed on request
+// (dynamics/frames.hpp) and never enter the equations of motion.
 template <class S>
 struct Workspace {
   explicit Workspace(const Model& model);
@@ -43,29 +49,40 @@ struct Workspace {
   std::vector<S> values;            // one per expression slot
   std::vector<S> mass;              // nb
   std::vector<Mat3<S>> inertia_body;  // nb, central, body frame
+  std::vector<Vec3<S>> reference_point;  // nb: Q_b in b's frame (its joint's child_point)
+  std::vector<SpatialInertia<S>> inertia_local;  // nb: at Q_b, body-frame components
   std::vector<Vec3<S>> joint_axis, joint_axis2, plane_e1, plane_e2;  // nj, unit (0 if degenerate)
   std::vector<Vec3<S>> parent_point, child_point;                    // nj
+  std::vector<Vec3<S>> joint_lever;  // nj: Q_P to the joint's parent point at q = 0, parent frame
+                                     //     (root joints: the parent point, world)
   Vec3<S> gravity;
+  Mat3<S> identity;                 // the ground's rotation
 
   // Position stage (q).
-  std::vector<Mat3<S>> R;        // nb: body → world rotation
-  std::vector<Vec3<S>> com;      // nb: mass-center position, world
-  std::vector<Vec3<S>> joint_point;  // nj: joint point Q (on the child), world
-  std::vector<Vec6<S>> partial;  // nu: spatial partial velocity of each speed, (Ω_k, L_k + Q×Ω_k)
-  std::vector<Mat3<S>> inertia_world;  // nb, central (3-D evaluation only)
-  std::vector<SpatialInertia<S>> spatial_inertia;  // nb, at O (3-D evaluation only)
+  std::vector<Mat3<S>> R;           // nb: body → world rotation
+  std::vector<Vec3<S>> joint_offset;  // nj: r_J = Q_child − Q_parent, world components (roots: 0)
+  std::vector<Vec3<S>> tree_anchor;   // nj, root joints only: world position of the child's Q
+  std::vector<Vec3<S>> tree_position;  // nb: Q_b − its tree's anchor, world components
+  std::vector<Vec6<S>> partial;     // nu: partial velocity of each speed, spatial, at the Q of
+                                    //     its joint's child: (Ω_k, 0) rotation, (0, L_k) translation
+  std::vector<SpatialInertia<S>> spatial_inertia;  // nb, at Q_b (3-D evaluation only)
 
   // Velocity stage (u).
-  std::vector<Vec6<S>> velocity;   // nb: spatial velocity (ω, v_O)
-  std::vector<Vec6<S>> bias_acceleration;  // nb: spatial acceleration with u̇ = 0
+  std::vector<Vec6<S>> velocity;   // nb: spatial velocity at Q_b (ω, v_Q)
+  std::vector<Vec6<S>> bias_acceleration;  // nb: spatial acceleration at Q_b with u̇ = 0
 
   // Dynamics.
-  std::vector<SpatialInertia<S>> composite_inertia;  // nb: subtree spatial inertia at O (3-D)
-  std::vector<Vec6<S>> wrench;     // nb: applied minus inertial (u̇ = 0) force vector at O, then
-                                   //     summed over the subtree
+  std::vector<SpatialInertia<S>> composite_inertia;  // nb: subtree spatial inertia at Q_b (3-D)
+  std::vector<Vec6<S>> wrench;     // nb: applied minus inertial (u̇ = 0) force vector at Q_b,
+                                   //     then summed over the subtree
+  bool mass_matrix_full = false;   // every pair of speeds moves a common body (a chain): no zeros
   MatX<S> mass_matrix;             // nu×nu
   VecX<S> forcing;                 // nu
   MatX<S> cholesky;                // nu×nu: upper triangle = U, mass_matrix = Uᵀ U (U = Lᵀ)
+  // Multi-tangent scalars: the factor of M's value (upper, as cholesky) and one value solve;
+  // the tangents are solved with it (apply_mass_inverse).
+  Eigen::MatrixXd value_factor;    // nu×nu
+  Eigen::VectorXd value_solution;  // nu
   VecX<S> udot;                    // nu
   VecX<S> qdot;                    // nq
   S time = S(0);
@@ -89,11 +106,12 @@ struct Workspace {
   std::vector<DualT<S>> general_q1, general_p1;
   std::vector<DualT<DualT<S>>> general_q2, general_p2;
 
-  // Planar evaluation (Model::evaluate_planar(); math/planar.hpp). R, com, joint_point and
-  // velocity are still filled (forces and energies read them); the rest is planar.
-  std::vector<PVec<S>> partial_planar;             // nu: (Ω_z, L + Q×Ω)_{z,x,y}
-  std::vector<PlanarInertia<S>> inertia_planar;    // nb, at O
-  std::vector<PlanarInertia<S>> composite_planar;  // nb, subtree at O
+  // Planar evaluation (Model::evaluate_planar(); math/planar.hpp). R, joint_offset,
+  // tree_anchor, tree_position and velocity are still filled (forces and energies read them);
+  // the rest is planar, at the same reference points.
+  std::vector<PVec<S>> partial_planar;             // nu: (Ω_z, L_x, L_y)
+  std::vector<PlanarInertia<S>> inertia_planar;    // nb, at Q_b
+  std::vector<PlanarInertia<S>> composite_planar;  // nb, subtree at Q_b
   std::vector<PVec<S>> velocity_planar, bias_planar, wrench_planar;  // nb
   std::vector<Vec6<S>> prefix;  // ≤ 7: a joint's V_P + Σ_{c<k} s_c u_c (carried frames' velocity)
 };

@@ -95,7 +95,7 @@ void write_numbers_attribute(hid_t object, const std::string& name,
   check(H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, values.data()), "H5Awrite" + where);
 }
 
-std::optional<std::string> read_text_attribute(hid_t object, const std::string& name) {
+std::optional<std::string> read_text_attribute(hid_t object, const std::string& name, std::size_t max_size) {
   const std::string where = "(@" + name + ")";
   const htri_t exists = H5Aexists(object, name.c_str());
   check(exists < 0 ? -1 : 0, "H5Aexists" + where);
@@ -104,6 +104,15 @@ std::optional<std::string> read_text_attribute(hid_t object, const std::string& 
   Datatype type(H5Aget_type(attr.get()), "H5Aget_type" + where);
   if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0) {
     throw std::runtime_error("HDF5 attribute " + name + " is not a fixed-length string");
+  }
+  // The buffer holds exactly one string: an attribute of several elements (a hostile file) would
+  // be read past its end.
+  Dataspace space(H5Aget_space(attr.get()), "H5Aget_space" + where);
+  if (H5Sget_simple_extent_npoints(space.get()) != 1) {
+    throw std::runtime_error("HDF5 attribute " + name + " is not a single string");
+  }
+  if (H5Tget_size(type.get()) > max_size) {
+    throw std::runtime_error("HDF5 attribute " + name + " is longer than " + std::to_string(max_size) + " bytes");
   }
   std::vector<char> buffer(H5Tget_size(type.get()), '\0');
   check(H5Aread(attr.get(), type.get(), buffer.data()), "H5Aread" + where);

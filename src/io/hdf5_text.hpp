@@ -40,7 +40,9 @@ void write_number_attribute(hid_t object, const std::string& name, double value)
 // A 1-D float64 attribute (also for 0 values).
 void write_numbers_attribute(hid_t object, const std::string& name, std::span<const double> values);
 
-// The text attribute `name` of `object`, or nullopt when it has none.
-std::optional<std::string> read_text_attribute(hid_t object, const std::string& name);
+// The text attribute `name` of `object`, or nullopt when it has none. Throws when it is not one
+// fixed-length string of at most `max_size` bytes.
+std::optional<std::string> read_text_attribute(hid_t object, const std::string& name,
+                                               std::size_t max_size = std::size_t{1} << 26);
 
 }  // namespace kanesens::io

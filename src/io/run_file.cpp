@@ -1,6 +1,12 @@
 #include "io/run_file.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -35,9 +41,31 @@ int on_root(MPI_Comm comm, F f) {
   return value;
 }
 
+// Rank 0's text on every rank.
+std::string broadcast_text(MPI_Comm comm, std::string text) {
+  unsigned long long n = text.size();
+  MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
+  text.resize(static_cast<std::size_t>(n));
+  if (n > 0) MPI_Bcast(text.data(), static_cast<int>(n), MPI_CHAR, 0, comm);
+  return text;
+}
+
+// Whether `path` names anything, a dangling symbolic link included (never followed).
 bool file_exists(const std::string& path) {
-  std::error_code ec;
-  return std::filesystem::exists(path, ec);
+  struct stat info {};
+  return ::lstat(path.c_str(), &info) == 0;
+}
+
+// Renames `from` to `to`; unless `replace`, fails (EEXIST) when `to` exists, atomically where
+// the file system supports it. Returns 0 or an errno value.
+int rename_file(const std::string& from, const std::string& to, bool replace) {
+  if (replace) return std::rename(from.c_str(), to.c_str()) == 0 ? 0 : errno;
+  if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_NOREPLACE) == 0) return 0;
+  if (errno != EINVAL && errno != ENOSYS) return errno;
+  // No RENAME_NOREPLACE on this file system: link() refuses an existing name as well.
+  if (::link(from.c_str(), to.c_str()) != 0) return errno;
+  ::unlink(from.c_str());
+  return 0;
 }
 
 void expect_size(bool recorded, std::size_t given, std::size_t wanted, const char* what,
@@ -61,10 +89,22 @@ RunFile RunFile::create(MPI_Comm comm, const std::string& path, const RunLayout&
                              "continue it");
   }
   // Built under a temporary name and renamed once its metadata is on disk, so `path` never
-  // names a half-made file, even if the run is killed during creation.
+  // names a half-made file, even if the run is killed during creation. The temporary file is
+  // created exclusively (O_EXCL): an existing file, directory or symbolic link of that name is
+  // never opened, truncated or followed. With --overwrite a stale one left by a killed
+  // creation is unlinked first (a link is removed, its target is untouched); a directory stays.
   const std::string partial = path + ".partial";
+  if (overwrite) {
+    const int removed = on_root(comm, [&] {
+      struct stat info {};
+      if (::lstat(partial.c_str(), &info) != 0 || S_ISDIR(info.st_mode)) return 0;
+      return ::unlink(partial.c_str()) == 0 ? 0 : errno;
+    });
+    if (removed != 0)
+      throw std::runtime_error("cannot remove the stale '" + partial + "': " + std::strerror(removed));
+  }
   const PropertyList fapl = mpio_access(comm, partial);
-  File file(H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()),
+  File file(H5Fcreate(partial.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl.get()),
             "H5Fcreate(" + partial + ")");
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
@@ -81,15 +121,9 @@ RunFile RunFile::create(MPI_Comm comm, const std::string& path, const RunLayout&
     std::filesystem::remove(partial, ec);
     throw;
   }
-  std::string rename_error;
-  if (on_root(comm, [&] {
-        std::error_code ec;
-        std::filesystem::rename(partial, path, ec);
-        rename_error = ec.message();
-        return ec ? 1 : 0;
-      })) {
-    throw std::runtime_error("cannot rename '" + partial + "' to '" + path + "'" +
-                             (rename_error.empty() ? "" : ": " + rename_error));
+  // Without --overwrite an output that appeared meanwhile is not replaced.
+  if (const int error = on_root(comm, [&] { return rename_file(partial, path, overwrite); })) {
+    throw std::runtime_error("cannot rename '" + partial + "' to '" + path + "': " + std::strerror(error));
   }
   return RunFile(path, std::move(file), layout);
 }
@@ -101,9 +135,22 @@ RunFile RunFile::open_for_resume(MPI_Comm comm, const std::string& path, const R
     throw std::runtime_error("cannot resume '" + path +
                              "': the file does not exist (run without --resume to create it)");
   }
+  // The file is input like the study: rank 0 checks it read-only, every dataset's type, shape,
+  // storage and the identifying attributes, before any rank opens it for writing.
+  std::string problem;
+  on_root(comm, [&] {
+    try {
+      File check_file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "H5Fopen(" + path + ")");
+      verify_schema(check_file.get(), path, layout, message_size);
+    } catch (const std::exception& e) {
+      problem = e.what();
+    }
+    return 0;
+  });
+  problem = broadcast_text(comm, problem);
+  if (!problem.empty()) throw std::runtime_error(problem);
   const PropertyList fapl = mpio_access(comm, path);
   File file(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()), "H5Fopen(" + path + ")");
-  verify_schema(file.get(), path, layout);
   return RunFile(path, std::move(file), layout);
 }
 
@@ -116,7 +163,9 @@ RunFile::RunFile(std::string path, File file, const RunLayout& l)
       nstate_(l.state_names.size()),
       nparameter_(has_parameters(l) ? l.parameter_names.size() : 0),
       nconstraint_(has_multipliers(l) ? l.constraint_names.size() : 0),
-      nsensitivity_(has_sensitivities(l) ? l.sensitivity_names.size() : 0) {
+      nsensitivity_(has_sensitivities(l) ? l.sensitivity_names.size() : 0),
+      noutput_sensitivity_(has_output_sensitivities(l) ? l.sensitivity_names.size() : 0),
+      nbody_(has_poses(l) ? l.body_names.size() : 0) {
   check(H5Pset_dxpl_mpio(independent_.get(), H5FD_MPIO_INDEPENDENT), "H5Pset_dxpl_mpio");
   auto open = [&](const std::string& p) {  // collective, like every H5Dopen under MPI-IO
     return Dataset(H5Dopen2(file_.get(), p.c_str(), H5P_DEFAULT), "H5Dopen2(" + p + ")");
@@ -127,6 +176,13 @@ RunFile::RunFile(std::string path, File file, const RunLayout& l)
   if (has_multipliers(l)) multipliers_ = open("/multipliers");
   if (has_sensitivities(l)) sensitivities_ = open("/sensitivities");
   for (const auto& name : l.output_names) outputs_.push_back(open(output_path(name)));
+  for (const auto& name : l.scalar_output_names) scalar_outputs_.push_back(open(output_path(name)));
+  if (has_output_sensitivities(l)) {
+    for (const auto& name : l.output_sensitivity_names) output_sensitivities_.push_back(open(output_sensitivity_path(name)));
+    for (const auto& name : l.scalar_output_sensitivity_names)
+      scalar_output_sensitivities_.push_back(open(output_sensitivity_path(name)));
+  }
+  if (has_poses(l)) poses_ = open(kPosesPath);
   for (const auto& name : l.stat_names) stats_.push_back(open(stat_path(name)));
   message_ = open(kMessagePath);
   status_ = open(kStatusPath);
@@ -162,6 +218,12 @@ void RunFile::write_sample(const SampleRow& row) {
   expect_size(bool(sensitivities_), row.sensitivities.size(), ntime_ * nstate_ * nsensitivity_,
               "sensitivities", i);
   expect_size(true, row.outputs.size(), outputs_.size() * ntime_, "outputs", i);
+  expect_size(true, row.scalar_outputs.size(), scalar_outputs_.size(), "scalar outputs", i);
+  expect_size(true, row.output_sensitivities.size(), output_sensitivities_.size() * ntime_ * noutput_sensitivity_,
+              "output sensitivities", i);
+  expect_size(true, row.scalar_output_sensitivities.size(), scalar_output_sensitivities_.size() * noutput_sensitivity_,
+              "scalar output sensitivities", i);
+  expect_size(bool(poses_), row.poses.size(), ntime_ * nbody_ * 7, "poses", i);
   expect_size(true, row.stats.size(), stats_.size(), "stats", i);
 
   const hid_t f64 = H5T_NATIVE_DOUBLE;
@@ -175,6 +237,15 @@ void RunFile::write_sample(const SampleRow& row) {
   for (std::size_t k = 0; k < outputs_.size(); ++k) {
     write_row(outputs_[k], "/outputs", f64, row.outputs.data() + k * ntime_, i);
   }
+  for (std::size_t k = 0; k < scalar_outputs_.size(); ++k)
+    write_row(scalar_outputs_[k], "/outputs", f64, row.scalar_outputs.data() + k, i);
+  for (std::size_t k = 0; k < output_sensitivities_.size(); ++k)
+    write_row(output_sensitivities_[k], "/output_sensitivities", f64,
+              row.output_sensitivities.data() + k * ntime_ * noutput_sensitivity_, i);
+  for (std::size_t k = 0; k < scalar_output_sensitivities_.size(); ++k)
+    write_row(scalar_output_sensitivities_[k], "/output_sensitivities", f64,
+              row.scalar_output_sensitivities.data() + k * noutput_sensitivity_, i);
+  if (poses_) write_row(poses_, kPosesPath, f64, row.poses.data(), i);
   for (std::size_t k = 0; k < stats_.size(); ++k) {
     write_row(stats_[k], "/solver_stats", f64, row.stats.data() + k, i);
   }
@@ -199,6 +270,11 @@ void SampleBlock::append(const SampleRow& row) {
   multipliers.insert(multipliers.end(), row.multipliers.begin(), row.multipliers.end());
   sensitivities.insert(sensitivities.end(), row.sensitivities.begin(), row.sensitivities.end());
   outputs.insert(outputs.end(), row.outputs.begin(), row.outputs.end());
+  scalar_outputs.insert(scalar_outputs.end(), row.scalar_outputs.begin(), row.scalar_outputs.end());
+  output_sensitivities.insert(output_sensitivities.end(), row.output_sensitivities.begin(), row.output_sensitivities.end());
+  scalar_output_sensitivities.insert(scalar_output_sensitivities.end(), row.scalar_output_sensitivities.begin(),
+                                     row.scalar_output_sensitivities.end());
+  poses.insert(poses.end(), row.poses.begin(), row.poses.end());
   stats.insert(stats.end(), row.stats.begin(), row.stats.end());
 }
 
@@ -216,6 +292,12 @@ void RunFile::write_samples(const SampleBlock& b) {
   expect_size(bool(multipliers_), b.multipliers.size(), un * ntime_ * nconstraint_, "multipliers", first);
   expect_size(bool(sensitivities_), b.sensitivities.size(), un * ntime_ * nstate_ * nsensitivity_, "sensitivities", first);
   expect_size(true, b.outputs.size(), un * outputs_.size() * ntime_, "outputs", first);
+  expect_size(true, b.scalar_outputs.size(), un * scalar_outputs_.size(), "scalar outputs", first);
+  expect_size(true, b.output_sensitivities.size(), un * output_sensitivities_.size() * ntime_ * noutput_sensitivity_,
+              "output sensitivities", first);
+  expect_size(true, b.scalar_output_sensitivities.size(),
+              un * scalar_output_sensitivities_.size() * noutput_sensitivity_, "scalar output sensitivities", first);
+  expect_size(bool(poses_), b.poses.size(), un * ntime_ * nbody_ * 7, "poses", first);
   expect_size(true, b.stats.size(), un * stats_.size(), "stats", first);
   const hid_t f64 = H5T_NATIVE_DOUBLE;
   if (parameters_) write_rows(parameters_, "/parameters", f64, b.parameters.data(), first, n);
@@ -229,6 +311,20 @@ void RunFile::write_samples(const SampleBlock& b) {
       std::copy_n(b.outputs.data() + (s * outputs_.size() + k) * ntime_, ntime_, column.data() + s * ntime_);
     write_rows(outputs_[k], "/outputs", f64, column.data(), first, n);
   }
+  // The other per-output datasets the same way: [sample][output][row] → [sample][row] per output.
+  auto write_columns = [&](const std::vector<Dataset>& datasets, const std::vector<double>& data, std::size_t row,
+                           const char* what) {
+    std::vector<double> col(un * std::max<std::size_t>(row, 1));
+    for (std::size_t k = 0; k < datasets.size(); ++k) {
+      for (std::size_t s = 0; s < un; ++s)
+        std::copy_n(data.data() + (s * datasets.size() + k) * row, row, col.data() + s * row);
+      write_rows(datasets[k], what, f64, col.data(), first, n);
+    }
+  };
+  write_columns(scalar_outputs_, b.scalar_outputs, 1, "/outputs");
+  write_columns(output_sensitivities_, b.output_sensitivities, ntime_ * noutput_sensitivity_, "/output_sensitivities");
+  write_columns(scalar_output_sensitivities_, b.scalar_output_sensitivities, noutput_sensitivity_, "/output_sensitivities");
+  if (poses_) write_rows(poses_, kPosesPath, f64, b.poses.data(), first, n);
   for (std::size_t k = 0; k < stats_.size(); ++k) {
     for (std::size_t s = 0; s < un; ++s) column[s] = b.stats[s * stats_.size() + k];
     write_rows(stats_[k], "/solver_stats", f64, column.data(), first, n);
@@ -277,6 +373,10 @@ void RunFile::abandon() noexcept {
   multipliers_.abandon();
   sensitivities_.abandon();
   for (auto& d : outputs_) d.abandon();
+  for (auto& d : scalar_outputs_) d.abandon();
+  for (auto& d : output_sensitivities_) d.abandon();
+  for (auto& d : scalar_output_sensitivities_) d.abandon();
+  poses_.abandon();
   for (auto& d : stats_) d.abandon();
   message_.abandon();
   status_.abandon();
@@ -297,6 +397,10 @@ void RunFile::close() {
   multipliers_.reset();
   sensitivities_.reset();
   outputs_.clear();
+  scalar_outputs_.clear();
+  output_sensitivities_.clear();
+  scalar_output_sensitivities_.clear();
+  poses_.reset();
   stats_.clear();
   message_.reset();
   status_.reset();

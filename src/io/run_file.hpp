@@ -44,10 +44,16 @@ struct RunLayout {
   std::vector<std::string> parameter_names;    // varied inputs (parameters, initial conditions) [P]
   std::vector<std::string> sensitivity_names;  // [S]
   std::vector<std::string> constraint_names;   // one per multiplier column [C]
-  std::vector<std::string> output_names;       // e.g. "energy", "constraint_residual"
+  std::vector<std::string> output_names;       // (sample, time): "energy", ..., the study's series ("tip.x")
+  std::vector<std::string> scalar_output_names;  // (sample): the study's scalar outputs ("work")
+  // The outputs whose sensitivities are recorded, /output_sensitivities/<name>: series (sample,
+  // time, sensitivity) and scalars (sample, sensitivity); each must be in the list above.
+  std::vector<std::string> output_sensitivity_names, scalar_output_sensitivity_names;
+  std::vector<std::string> body_names;         // [nbody], for /poses
   std::vector<std::string> stat_names;         // e.g. "steps", "rhs_evals", "wall_seconds"
   std::int64_t nsamples = 0;
   bool record_states = true, record_sensitivities = false, record_multipliers = false;
+  bool record_poses = false;                   // /poses (sample, time, body, pose)
   std::map<std::string, std::string> text_attributes;  // root: kanesens_version, scene_yaml, ...
   std::map<std::string, double> number_attributes;     // root: mpi_ranks, seed, ...
   DesignLabels design_labels;                          // empty: no /design_* datasets
@@ -67,6 +73,10 @@ struct SampleRow {
   std::span<const double> sensitivities;  // [T × nstate × S], [time][state][sensitivity]
   std::span<const double> outputs;        // [noutputs × T], [output][time]
   std::span<const double> stats;          // [nstats]
+  std::span<const double> scalar_outputs;  // [nscalar]
+  std::span<const double> output_sensitivities;         // [noutput_sens × T × S], [output][time][sens]
+  std::span<const double> scalar_output_sensitivities;  // [nscalar_sens × S]
+  std::span<const double> poses;          // [T × nbody × 7], [time][body][pose]
 };
 
 // Consecutive samples first .. first+count−1, flat in sample order (each entry as in SampleRow,
@@ -76,7 +86,12 @@ struct SampleBlock {
   std::vector<int> status;
   std::vector<std::string> message;
   std::vector<double> parameters, initial_state, states, multipliers, sensitivities, outputs, stats;
+  std::vector<double> scalar_outputs, output_sensitivities, scalar_output_sensitivities, poses;
   void clear() {
+    scalar_outputs.clear();
+    output_sensitivities.clear();
+    scalar_output_sensitivities.clear();
+    poses.clear();
     count = 0;
     status.clear();
     message.clear();
@@ -143,8 +158,9 @@ class RunFile {
   PropertyList independent_;
   std::int64_t nsamples_ = 0;
   std::size_t ntime_ = 0, nstate_ = 0, nparameter_ = 0, nconstraint_ = 0, nsensitivity_ = 0;
-  Dataset parameters_, initial_state_, states_, multipliers_, sensitivities_;
-  std::vector<Dataset> outputs_, stats_;
+  std::size_t noutput_sensitivity_ = 0, nbody_ = 0;  // the sensitivity dimension of /output_sensitivities
+  Dataset parameters_, initial_state_, states_, multipliers_, sensitivities_, poses_;
+  std::vector<Dataset> outputs_, stats_, scalar_outputs_, output_sensitivities_, scalar_output_sensitivities_;
   Dataset message_, status_;
 };
 

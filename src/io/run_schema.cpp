@@ -25,16 +25,20 @@ constexpr hsize_t kMaxChunkBytes = hsize_t{256} << 20;
 
 struct Dimension {
   std::string name;
-  const std::vector<std::string>* labels = nullptr;  // string coordinate, or null
+  std::vector<std::string> labels;  // the string coordinate
 };
 
 // The string dimensions that exist for `layout`, in schema order (see run_schema.hpp).
 std::vector<Dimension> string_dimensions(const RunLayout& l) {
-  std::vector<Dimension> dims{{"state", &l.state_names}};
-  if (has_parameters(l)) dims.push_back({"parameter", &l.parameter_names});
-  if (has_sensitivities(l)) dims.push_back({"sensitivity", &l.sensitivity_names});
-  if (has_multipliers(l)) dims.push_back({"constraint", &l.constraint_names});
-  if (!l.output_names.empty()) dims.push_back({"output", &l.output_names});
+  std::vector<Dimension> dims{{"state", l.state_names}};
+  if (has_parameters(l)) dims.push_back({"parameter", l.parameter_names});
+  if (has_sensitivity_dimension(l)) dims.push_back({"sensitivity", l.sensitivity_names});
+  if (has_multipliers(l)) dims.push_back({"constraint", l.constraint_names});
+  if (!all_output_names(l).empty()) dims.push_back({"output", all_output_names(l)});
+  if (has_poses(l)) {
+    dims.push_back({"body", l.body_names});
+    dims.push_back({"pose", pose_components()});
+  }
   return dims;
 }
 
@@ -54,6 +58,14 @@ std::vector<Variable> float_variables(const RunLayout& l) {
     vars.push_back({"/sensitivities", {"sample", "time", "state", "sensitivity"}});
   }
   for (const auto& name : l.output_names) vars.push_back({output_path(name), {"sample", "time"}});
+  for (const auto& name : l.scalar_output_names) vars.push_back({output_path(name), {"sample"}});
+  if (has_output_sensitivities(l)) {
+    for (const auto& name : l.output_sensitivity_names)
+      vars.push_back({output_sensitivity_path(name), {"sample", "time", "sensitivity"}});
+    for (const auto& name : l.scalar_output_sensitivity_names)
+      vars.push_back({output_sensitivity_path(name), {"sample", "sensitivity"}});
+  }
+  if (has_poses(l)) vars.push_back({kPosesPath, {"sample", "time", "body", "pose"}});
   for (const auto& name : l.stat_names) vars.push_back({stat_path(name), {"sample"}});
   return vars;
 }
@@ -65,7 +77,9 @@ hsize_t dimension_size(const RunLayout& l, const std::string& dim) {
   if (dim == "parameter") return l.parameter_names.size();
   if (dim == "sensitivity") return l.sensitivity_names.size();
   if (dim == "constraint") return l.constraint_names.size();
-  return l.output_names.size();  // "output"
+  if (dim == "body") return l.body_names.size();
+  if (dim == "pose") return pose_components().size();
+  return all_output_names(l).size();  // "output"
 }
 
 std::vector<hsize_t> chunk_shape(const std::vector<hsize_t>& shape, std::size_t element_size) {
@@ -158,6 +172,8 @@ std::string join(const std::vector<std::string>& names) {
   return "[" + s + "]";
 }
 
+// Whether `path` exists in `file`. Every component must be a hard link: a soft or external link
+// (a hostile file could point /states at a dataset of another file) is refused.
 bool link_exists(hid_t file, const std::string& path) {
   // H5Lexists needs every intermediate group to exist: check them one by one.
   for (std::size_t slash = path.find('/', 1);; slash = path.find('/', slash + 1)) {
@@ -165,24 +181,92 @@ bool link_exists(hid_t file, const std::string& path) {
     const htri_t exists = H5Lexists(file, prefix.c_str(), H5P_DEFAULT);
     check(exists < 0 ? -1 : 0, "H5Lexists(" + prefix + ")");
     if (exists == 0) return false;
+    H5L_info_t info;
+    check(H5Lget_info(file, prefix.c_str(), &info, H5P_DEFAULT), "H5Lget_info(" + prefix + ")");
+    if (info.type != H5L_TYPE_HARD) {
+      throw std::runtime_error(prefix + " is a soft or external link, not an object of this file");
+    }
     if (slash == std::string::npos) return true;
   }
 }
 
-std::vector<std::string> read_names(hid_t file, const std::string& path) {
-  if (!link_exists(file, path)) return {};
+// What a dataset of the file must be: its element type and its shape.
+enum class Element { float64, int32, int64, text };
+
+// Opens `path` and checks, before any of its data is read or written, that it is a dataset of
+// `element` values (`text`: fixed-length strings, of `text_size` bytes unless 0) with exactly
+// the dimensions `dims`, stored in this file (no external raw data, no virtual mapping, no
+// filters). Throws a message naming the dataset otherwise.
+Dataset open_checked(hid_t file, const std::string& path, Element element, const std::vector<hsize_t>& dims,
+                     std::size_t text_size = 0) {
+  auto fail = [&](const std::string& what) { throw std::runtime_error("dataset " + path + " " + what); };
+  if (!link_exists(file, path)) fail("is missing");
+  if (H5Oexists_by_name(file, path.c_str(), H5P_DEFAULT) <= 0) fail("does not resolve to an object");
+  H5O_info_t object;
+  check(H5Oget_info_by_name2(file, path.c_str(), &object, H5O_INFO_BASIC, H5P_DEFAULT), "H5Oget_info(" + path + ")");
+  if (object.type != H5O_TYPE_DATASET) fail("is not a dataset");
   Dataset dataset(H5Dopen2(file, path.c_str(), H5P_DEFAULT), "H5Dopen2(" + path + ")");
+  const Datatype type(H5Dget_type(dataset.get()), "H5Dget_type(" + path + ")");
+  const H5T_class_t type_class = H5Tget_class(type.get());
+  const std::size_t size = H5Tget_size(type.get());
+  switch (element) {
+    case Element::float64:
+      if (type_class != H5T_FLOAT || size != 8) fail("is not float64");
+      break;
+    case Element::int32:
+    case Element::int64:
+      if (type_class != H5T_INTEGER || size != (element == Element::int32 ? 4u : 8u))
+        fail(element == Element::int32 ? "is not int32" : "is not int64");
+      break;
+    case Element::text:
+      if (type_class != H5T_STRING || H5Tis_variable_str(type.get()) != 0) fail("is not of fixed-length strings");
+      if (text_size != 0 && size != text_size) fail("has strings of " + std::to_string(size) + " bytes, expected " + std::to_string(text_size));
+      if (size > 65536) fail("has strings of " + std::to_string(size) + " bytes");
+      break;
+  }
+  const Dataspace space(H5Dget_space(dataset.get()), "H5Dget_space(" + path + ")");
+  if (H5Sget_simple_extent_type(space.get()) != H5S_SIMPLE) fail("is not an array");
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  std::vector<hsize_t> found(rank > 0 ? static_cast<std::size_t>(rank) : 0);
+  if (rank < 0 || H5Sget_simple_extent_dims(space.get(), found.data(), nullptr) < 0) fail("has no readable shape");
+  if (found != dims) {
+    auto shape = [](const std::vector<hsize_t>& d) {
+      std::string s;
+      for (const hsize_t x : d) s += (s.empty() ? "" : ", ") + std::to_string(x);
+      return "(" + s + ")";
+    };
+    fail("has shape " + shape(found) + ", this study writes " + shape(dims));
+  }
+  const PropertyList dcpl(H5Dget_create_plist(dataset.get()), "H5Dget_create_plist(" + path + ")");
+  const H5D_layout_t layout = H5Pget_layout(dcpl.get());
+  if (layout != H5D_CONTIGUOUS && layout != H5D_CHUNKED && layout != H5D_COMPACT) fail("is a virtual dataset");
+  if (H5Pget_external_count(dcpl.get()) != 0) fail("keeps its data in an external file");
+  if (H5Pget_nfilters(dcpl.get()) != 0) fail("is filtered (compressed); run files are not");
+  return dataset;
+}
+
+std::vector<std::string> read_names(hid_t file, const std::string& path, std::size_t count) {
+  if (!link_exists(file, path)) return {};
+  const Dataset dataset = open_checked(file, path, Element::text, {count});
   return read_strings(dataset.get(), path);
 }
 
-std::vector<double> read_doubles(hid_t file, const std::string& path) {
-  if (!link_exists(file, path)) return {};
-  Dataset dataset(H5Dopen2(file, path.c_str(), H5P_DEFAULT), "H5Dopen2(" + path + ")");
-  Dataspace space(H5Dget_space(dataset.get()), "H5Dget_space(" + path + ")");
-  std::vector<double> values(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get())));
-  check(H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
-        "H5Dread(" + path + ")");
+std::vector<double> read_doubles(hid_t file, const std::string& path, std::size_t count) {
+  const Dataset dataset = open_checked(file, path, Element::float64, {count});
+  std::vector<double> values(count);
+  if (count > 0)
+    check(H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
+          "H5Dread(" + path + ")");
   return values;
+}
+
+// The number of elements of dimension `path` (a 1-D dataset) in the file, 0 when it has none.
+std::size_t dimension_length(hid_t file, const std::string& path) {
+  if (!link_exists(file, path)) return 0;
+  const Dataset dataset(H5Dopen2(file, path.c_str(), H5P_DEFAULT), "H5Dopen2(" + path + ")");
+  const Dataspace space(H5Dget_space(dataset.get()), "H5Dget_space(" + path + ")");
+  const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+  return n > 0 ? static_cast<std::size_t>(n) : 0;
 }
 
 // Rank 0 writes the design labels a chunk at a time (memory does not grow with the samples);
@@ -247,7 +331,15 @@ void validate_layout(const RunLayout& l) {
   check_names(l.parameter_names, "parameter", false);
   check_names(l.sensitivity_names, "sensitivity", false);
   check_names(l.constraint_names, "constraint", false);
-  check_names(l.output_names, "output", true);
+  check_names(all_output_names(l), "output", true);
+  check_names(l.body_names, "body", false);
+  auto subset = [](const std::vector<std::string>& part, const std::vector<std::string>& of) {
+    for (const auto& name : part)
+      if (std::find(of.begin(), of.end(), name) == of.end())
+        throw std::invalid_argument("run file: sensitivities of '" + name + "', which is not an output of that shape");
+  };
+  subset(l.output_sensitivity_names, l.output_names);
+  subset(l.scalar_output_sensitivity_names, l.scalar_output_names);
   check_names(l.stat_names, "solver statistic", true);
   std::vector<std::string> varied;
   for (const auto& d : l.distributions) {
@@ -274,16 +366,20 @@ void write_schema(hid_t file, const RunLayout& l, int rank, std::size_t message_
   scales["time"] = create_dataset(file, "/time", H5T_IEEE_F64LE, {l.times.size()}, nullptr);
   write_values(scales["time"], "/time", H5T_NATIVE_DOUBLE, l.times.data(), rank);
   for (const auto& dim : string_dimensions(l)) {
-    scales[dim.name] = create_strings(file, "/" + dim.name, *dim.labels, rank);
+    scales[dim.name] = create_strings(file, "/" + dim.name, dim.labels, rank);
     const std::string alias = "/" + dim.name + "_name";
-    attach(create_strings(file, alias, *dim.labels, rank), alias, {dim.name}, scales);
+    attach(create_strings(file, alias, dim.labels, rank), alias, {dim.name}, scales);
   }
   for (const auto& [name, scale] : scales) set_scale(scale, name);
 
   // Per-sample data, filled so that an unwritten row reads as "not run".
-  if (!l.output_names.empty()) {
+  if (!all_output_names(l).empty()) {
     Group(H5Gcreate2(file, "/outputs", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
           "H5Gcreate2(/outputs)");
+  }
+  if (has_output_sensitivities(l)) {
+    Group(H5Gcreate2(file, "/output_sensitivities", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+          "H5Gcreate2(/output_sensitivities)");
   }
   if (!l.stat_names.empty()) {
     Group(H5Gcreate2(file, "/solver_stats", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
@@ -308,46 +404,65 @@ void write_schema(hid_t file, const RunLayout& l, int rank, std::size_t message_
   if (!l.distributions.empty()) write_distributions(file, l);
 }
 
-void verify_schema(hid_t file, const std::string& path, const RunLayout& l) {
+void verify_schema(hid_t file, const std::string& path, const RunLayout& l, std::size_t message_size) {
   auto fail = [&](const std::string& what) {
     throw std::runtime_error("cannot resume '" + path + "': " + what +
                              "; it was written for another study (start a new file instead)");
   };
-  auto compare = [&](const std::string& what, const std::vector<std::string>& in_file,
-                     const std::vector<std::string>& wanted) {
+  auto compare = [&](const std::string& what, const std::string& dim, const std::vector<std::string>& wanted) {
+    const std::size_t n = dimension_length(file, "/" + dim);
+    if (n != wanted.size() && n > (std::size_t{1} << 20)) {  // not worth reading to show them
+      fail("it has " + std::to_string(n) + " " + what + ", this study " + std::to_string(wanted.size()));
+    }
+    const std::vector<std::string> in_file = read_names(file, "/" + dim, n);
     if (in_file != wanted) {
       fail("its " + what + " " + join(in_file) + " differ from this study's " + join(wanted));
     }
   };
-  const auto samples = read_doubles(file, "/sample");
-  if (samples.size() != static_cast<std::size_t>(l.nsamples)) {
-    fail("it has " + std::to_string(samples.size()) + " samples, this study " +
-         std::to_string(l.nsamples));
-  }
-  const auto times = read_doubles(file, "/time");
-  if (times != l.times) {
-    fail("its " + std::to_string(times.size()) + " output times differ from this study's " +
-         std::to_string(l.times.size()));
-  }
-  compare("state names", read_names(file, "/state"), l.state_names);
-  compare("parameter names", read_names(file, "/parameter"), l.parameter_names);
-  const std::vector<std::string> none;
-  compare("sensitivity names", read_names(file, "/sensitivity"),
-          has_sensitivities(l) ? l.sensitivity_names : none);
-  compare("constraint names", read_names(file, "/constraint"),
-          has_multipliers(l) ? l.constraint_names : none);
-  compare("output names", read_names(file, "/output"), l.output_names);
-  if (link_exists(file, "/states") != has_states(l)) {
-    fail(has_states(l) ? "it does not record states" : "it records states");
-  }
-  for (const auto& name : l.stat_names) {
-    if (!link_exists(file, stat_path(name))) fail("it has no solver statistic '" + name + "'");
-  }
-  const auto hash_in_file = read_text_attribute(file, "study_hash");
-  const auto wanted_hash = l.text_attributes.find("study_hash");
-  if (hash_in_file && wanted_hash != l.text_attributes.end() &&
-      *hash_in_file != wanted_hash->second) {
-    fail("its study_hash " + *hash_in_file + " differs from this study's " + wanted_hash->second);
+  try {
+    // Identity first: a file without the study's hash is not this study's output.
+    const auto hash_in_file = read_text_attribute(file, "study_hash");
+    const auto wanted_hash = l.text_attributes.find("study_hash");
+    if (wanted_hash != l.text_attributes.end()) {
+      if (!hash_in_file) fail("it has no study_hash attribute");
+      if (*hash_in_file != wanted_hash->second) {
+        fail("its study_hash " + *hash_in_file + " differs from this study's " + wanted_hash->second);
+      }
+    }
+    const std::size_t n = static_cast<std::size_t>(l.nsamples);
+    if (const std::size_t found = dimension_length(file, "/sample"); found != n) {
+      fail("it has " + std::to_string(found) + " samples, this study " + std::to_string(n));
+    }
+    open_checked(file, "/sample", Element::int64, {n});
+    const std::size_t ntime = dimension_length(file, "/time");
+    if (ntime != l.times.size() || read_doubles(file, "/time", ntime) != l.times) {
+      fail("its " + std::to_string(ntime) + " output times differ from this study's " + std::to_string(l.times.size()));
+    }
+    const std::vector<std::string> none;
+    compare("state names", "state", l.state_names);
+    compare("parameter names", "parameter", l.parameter_names);
+    compare("sensitivity names", "sensitivity", has_sensitivity_dimension(l) ? l.sensitivity_names : none);
+    compare("constraint names", "constraint", has_multipliers(l) ? l.constraint_names : none);
+    compare("output names", "output", all_output_names(l));
+    compare("body names", "body", has_poses(l) ? l.body_names : none);
+    if (link_exists(file, "/states") != has_states(l)) {
+      fail(has_states(l) ? "it does not record states" : "it records states");
+    }
+    for (const auto& name : l.stat_names) {
+      if (!link_exists(file, stat_path(name))) fail("it has no solver statistic '" + name + "'");
+    }
+    // Every dataset a sample row is written to, with the type and shape the writer assumes.
+    for (const auto& var : float_variables(l)) {
+      std::vector<hsize_t> shape;
+      for (const auto& dim : var.dims) shape.push_back(dimension_size(l, dim));
+      open_checked(file, var.path, Element::float64, shape);
+    }
+    open_checked(file, kStatusPath, Element::int32, {n});
+    open_checked(file, kMessagePath, Element::text, {n}, message_size);
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    if (what.rfind("cannot resume", 0) == 0) throw;
+    throw std::runtime_error("cannot resume '" + path + "': " + what + "; it is not a run file kanesens wrote");
   }
 }
 

@@ -17,7 +17,10 @@
 //     /states         (sample, time, state)                 float64  [record_states]
 //     /multipliers    (sample, time, constraint)            float64  [record_multipliers]
 //     /sensitivities  (sample, time, state, sensitivity)    float64  [record_sensitivities]
-//     /outputs/<name> (sample, time)                        float64
+//     /outputs/<name> (sample, time) or (sample)           float64  [output_names, scalar_output_names]
+//     /output_sensitivities/<name> (sample, time, sensitivity) or (sample, sensitivity)
+//                                                           float64  [output_sensitivity_names, ...]
+//     /poses          (sample, time, body, pose)            float64  [record_poses]; pose = x y z qw qx qy qz
 //     /solver_stats/<name> (sample)                         float64
 //     /status         (sample)  int32: 0 not run, 1 ok, < 0 failure code
 //     /message        (sample)  string of RunFile::message_size bytes
@@ -31,6 +34,7 @@
 #include <hdf5.h>
 
 #include <string>
+#include <vector>
 
 #include "io/run_file.hpp"
 
@@ -45,8 +49,11 @@ void validate_layout(const RunLayout& layout);
 void write_schema(hid_t file, const RunLayout& layout, int rank, std::size_t message_size);
 
 // Throws std::runtime_error("cannot resume '<path>': ...") naming the first way in which `file`
-// differs from what `layout` would create.
-void verify_schema(hid_t file, const std::string& path, const RunLayout& layout);
+// differs from what `layout` would create: a missing or different study_hash attribute (when the
+// layout has one), names, times, and the element type, shape and storage of every dataset a
+// sample row is written to (no soft or external links, external raw data, virtual datasets or
+// filters). Reads only what it has checked the shape of first.
+void verify_schema(hid_t file, const std::string& path, const RunLayout& layout, std::size_t message_size);
 
 // Dataset paths (absolute) used by RunFile for the per-sample data.
 inline constexpr const char* kStatusPath = "/status";
@@ -58,6 +65,10 @@ inline constexpr const char* kVaryPath = "/vary";
 inline std::string output_path(const std::string& name) {
   return "/outputs/" + name;
 }
+inline std::string output_sensitivity_path(const std::string& name) {
+  return "/output_sensitivities/" + name;
+}
+inline constexpr const char* kPosesPath = "/poses";
 inline std::string stat_path(const std::string& name) {
   return "/solver_stats/" + name;
 }
@@ -74,6 +85,28 @@ inline bool has_multipliers(const RunLayout& l) {
 }
 inline bool has_sensitivities(const RunLayout& l) {
   return l.record_sensitivities && !l.sensitivity_names.empty();
+}
+inline bool has_output_sensitivities(const RunLayout& l) {
+  return !l.sensitivity_names.empty() &&
+         (!l.output_sensitivity_names.empty() || !l.scalar_output_sensitivity_names.empty());
+}
+// The /sensitivity dimension: for state or output sensitivities.
+inline bool has_sensitivity_dimension(const RunLayout& l) {
+  return has_sensitivities(l) || has_output_sensitivities(l);
+}
+inline bool has_poses(const RunLayout& l) {
+  return l.record_poses && !l.body_names.empty();
+}
+// The names of /outputs/*: series, then scalars.
+inline std::vector<std::string> all_output_names(const RunLayout& l) {
+  std::vector<std::string> names = l.output_names;
+  names.insert(names.end(), l.scalar_output_names.begin(), l.scalar_output_names.end());
+  return names;
+}
+// The seven pose components (/pose).
+inline const std::vector<std::string>& pose_components() {
+  static const std::vector<std::string> names = {"x", "y", "z", "qw", "qx", "qy", "qz"};
+  return names;
 }
 
 }  // namespace kanesens::io

@@ -1,8 +1,11 @@
 // Small 3-D and spatial-vector helpers, templated on the scalar.
-// Spatial vectors are 6-vectors in world components taken at the world origin O (Plücker
-// coordinates, Featherstone 2008 ch. 2): a motion vector is (ω, v_O), v_O = velocity of the
-// body-fixed point at O; a force vector is (τ_O, F), τ_O = moment about O. Their pairing
-// m·f = ω·τ_O + v_O·F is power.
+// Spatial vectors are 6-vectors in Plücker coordinates (Featherstone 2008 ch. 2) taken at a
+// reference point A, with world-aligned axes: a motion vector is (ω, v_A), v_A = velocity of the
+// body-fixed point at A; a force vector is (τ_A, F), τ_A = moment about A. Their pairing
+// m·f = ω·τ_A + v_A·F is power, the same at every point. The dynamics layer takes each body's
+// inboard joint point as its reference point and moves vectors between neighbours with the
+// small offset r = A_child − A_parent (motion_to_child, force_to_parent, SpatialInertia::
+// to_parent), so no large world position enters a difference.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -83,23 +86,29 @@ Vec6<S> cross_force(const Vec6<S>& m, const Vec6<S>& f) {
   return r;
 }
 
-// Spatial inertia at O of a body of mass m, mass center c (world) and central inertia I (world):
-// [[I + m [c]×[c]×ᵀ, m [c]×], [m [c]×ᵀ, m 1]], mapping (ω, v_O) to (angular momentum about O, p).
+// A motion vector at A moved to B = A + r: (ω, v + ω × r).
 template <class S>
-Mat6<S> spatial_inertia(const S& m, const Vec3<S>& c, const Mat3<S>& I) {
-  const Mat3<S> C = skew<S>(c);
-  Mat6<S> M;
-  M.template topLeftCorner<3, 3>() = I - m * C * C;
-  M.template topRightCorner<3, 3>() = m * C;
-  M.template bottomLeftCorner<3, 3>() = -m * C;
-  M.template bottomRightCorner<3, 3>() = m * Mat3<S>::Identity();
-  return M;
+Vec6<S> motion_to_child(const Vec6<S>& m, const Vec3<S>& r) {
+  Vec6<S> x;
+  x.template head<3>() = m.template head<3>();
+  x.template tail<3>() = m.template tail<3>() + m.template head<3>().cross(r);
+  return x;
 }
 
-// Spatial inertia at O in compact form (Featherstone 2008 §2.13): mass m, first moment h = m c
-// (c the mass center, world) and rotational inertia about O, I = I_c + m (|c|² 1 − c cᵀ)
-// (world, symmetric). The same operator as spatial_inertia()'s 6×6 matrix, but sums (composite
-// inertias) cost 13 additions and applying one to a motion vector 24 multiplications, not 36.
+// A force vector at A moved to B = A − r: (τ + r × F, F).
+template <class S>
+Vec6<S> force_to_parent(const Vec6<S>& f, const Vec3<S>& r) {
+  Vec6<S> x;
+  x.template head<3>() = f.template head<3>() + r.cross(f.template tail<3>());
+  x.template tail<3>() = f.template tail<3>();
+  return x;
+}
+
+// Spatial inertia at a reference point A in compact form (Featherstone 2008 §2.13): mass m,
+// first moment h = m (c − A) (c the mass center) and rotational inertia about A,
+// I = I_c + m (|c − A|² 1 − (c − A)(c − A)ᵀ), symmetric; world-aligned components. Sums
+// (composite inertias) cost 13 additions and applying one to a motion vector 24
+// multiplications, not the 36 of the 6×6 matrix.
 template <class S>
 struct SpatialInertia {
   S m = S(0);
@@ -112,13 +121,41 @@ struct SpatialInertia {
     I += o.I;
     return *this;
   }
-  // (ω, v_O) ↦ (I ω + h × v_O, m v_O − h × ω): angular momentum about O and linear momentum.
+  // (ω, v_A) ↦ (I ω + h × v_A, m v_A − h × ω): angular momentum about A and linear momentum.
   Vec6<S> operator*(const Vec6<S>& x) const {
     const Vec3<S> w = x.template head<3>(), v = x.template tail<3>();
     Vec6<S> r;
     r.template head<3>() = I * w + h.cross(v);
     r.template tail<3>() = m * v - h.cross(w);
     return r;
+  }
+  // The momentum of a rotation (a, 0) about an axis a through A, and of a translation (0, a).
+  Vec6<S> times_rotation(const Vec3<S>& a) const {
+    Vec6<S> r;
+    r.template head<3>() = I * a;
+    r.template tail<3>() = a.cross(h);
+    return r;
+  }
+  Vec6<S> times_translation(const Vec3<S>& a) const {
+    Vec6<S> r;
+    r.template head<3>() = h.cross(a);
+    r.template tail<3>() = m * a;
+    return r;
+  }
+  // The same inertia at B = A − r (a body's composite inertia seen from its parent's point):
+  // h' = h + m r, I' = I + 2 (k·r) 1 − (k rᵀ + r kᵀ) with k = h + m r / 2 (the parallel-axis
+  // theorem between two points a body length apart).
+  void add_to_parent(const Vec3<S>& r, SpatialInertia& parent) const {
+    const Vec3<S> k = h + S(0.5) * m * r;
+    const S kr2 = S(2) * k.dot(r);
+    parent.m += m;
+    parent.h += h + m * r;
+    for (int i = 0; i < 3; ++i)
+      for (int j = i; j < 3; ++j) {
+        const S x = I(i, j) - (k[i] * r[j] + r[i] * k[j]) + (i == j ? kr2 : S(0));
+        parent.I(i, j) += x;
+        if (j != i) parent.I(j, i) += x;
+      }
   }
   Mat6<S> matrix() const {  // the 6×6 form (tests)
     const Mat3<S> H = skew<S>(h);
@@ -128,35 +165,36 @@ struct SpatialInertia {
   }
 };
 
-// Compact spatial inertia of a body of mass m, mass center c (world), rotation R (body → world)
-// and central inertia I_b (body frame): I_c = R I_b Rᵀ (only its 6 distinct entries are formed),
-// then the parallel-axis shift to O. `inertia_world` receives I_c.
+// A body's spatial inertia at its reference point A in body-frame components (constant: set
+// once per parameter set): mass m, central inertia I_c and mass center at c − A = −p.
 template <class S>
-SpatialInertia<S> body_spatial_inertia(const S& m, const Vec3<S>& c, const Mat3<S>& R, const Mat3<S>& I_b,
-                                       Mat3<S>& inertia_world) {
-  const Mat3<S> T = R * I_b;
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j) {
-      const S x = T(i, 0) * R(j, 0) + T(i, 1) * R(j, 1) + T(i, 2) * R(j, 2);
-      inertia_world(i, j) = x;
-      inertia_world(j, i) = x;
-    }
+SpatialInertia<S> body_inertia_at(const S& m, const Mat3<S>& I_c, const Vec3<S>& p) {
   SpatialInertia<S> X;
   X.m = m;
-  X.h = m * c;
-  const S hc = X.h.dot(c);
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j) {
-      const S x = inertia_world(i, j) - X.h[i] * c[j] + (i == j ? hc : S(0));
-      X.I(i, j) = x;
-      X.I(j, i) = x;
-    }
+  X.h = -m * p;
+  X.I = I_c + m * (p.squaredNorm() * Mat3<S>::Identity() - p * p.transpose());
   return X;
 }
 
-// A force F applied at point r (world), as a force vector at O.
+// X (body-frame components) in world-aligned components for the body rotation R (body →
+// world): h_w = R h, I_w = R I Rᵀ (only its 6 distinct entries are formed).
 template <class S>
-Vec6<S> wrench_at_origin(const Vec3<S>& r, const Vec3<S>& F) {
+void rotate_inertia(const SpatialInertia<S>& X, const Mat3<S>& R, SpatialInertia<S>& out) {
+  out.m = X.m;
+  out.h.noalias() = R * X.h;
+  Mat3<S> T;
+  T.noalias() = R * X.I;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      const S x = T(i, 0) * R(j, 0) + T(i, 1) * R(j, 1) + T(i, 2) * R(j, 2);
+      out.I(i, j) = x;
+      out.I(j, i) = x;
+    }
+}
+
+// A force F applied at offset r from the reference point, as a force vector there.
+template <class S>
+Vec6<S> wrench_at(const Vec3<S>& r, const Vec3<S>& F) {
   Vec6<S> w;
   w.template head<3>() = r.cross(F);
   w.template tail<3>() = F;

@@ -1,8 +1,10 @@
 #include "model/build_model.hpp"
+#include "model/joint_types.hpp"
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <set>
+#include <unordered_map>
 
 #include "util/did_you_mean.hpp"
 
@@ -46,6 +48,8 @@ class Builder {
 
   void build_parameters() {
     std::set<std::string> seen;
+    std::vector<double> vals;  // nominal values so far (linear in the number of parameters)
+    vals.reserve(spec_.parameters.size());
     for (const auto& p : spec_.parameters) {
       if (!is_identifier(p.name) || p.name == "t" || p.name == "pi")
         fail(p.value.where, p.value.key, "'" + p.name + "' cannot be a parameter name (use letters, digits, _; not t or pi)");
@@ -58,8 +62,6 @@ class Builder {
         par.value = expr::compile(p.value.text, param_names_, p.value.where, p.value.key);
       }
       par.derived = !par.value.is_constant();
-      std::vector<double> vals;
-      for (const auto& q : m_.parameters) vals.push_back(q.nominal);
       expr::Inputs<double> in;
       in.parameters = vals.data();
       par.nominal = par.value.evaluate(in);
@@ -67,6 +69,7 @@ class Builder {
         fail(p.value.where, p.value.key, "value is not finite (" + std::to_string(par.nominal) +
                                              "; a division by zero or a value out of range?)");
       param_names_.add(p.name, {expr::VarKind::parameter, static_cast<int>(m_.parameters.size())});
+      vals.push_back(par.nominal);
       m_.parameters.push_back(std::move(par));
     }
     for (const auto& [name, v] : overrides_) {
@@ -93,11 +96,15 @@ class Builder {
   Slot3 add3(const Vec3Text& v, bool allow_state) { return {add(v[0], allow_state), add(v[1], allow_state), add(v[2], allow_state)}; }
 
   void build_bodies() {
-    std::set<std::string> seen;
+    if (spec_.bodies.size() > kMaxBodies)
+      fail(spec_.where.file.empty() ? SourceLocation{spec_.file, 0, 0} : spec_.where, "scene.bodies",
+           std::to_string(spec_.bodies.size()) + " bodies; kanesens handles at most " + std::to_string(kMaxBodies) +
+               " (its mass matrix is dense)");
     for (const auto& b : spec_.bodies) {
       if (b.name == "ground") fail(b.where, b.key + ".name", "'ground' is reserved for the world frame");
       if (!is_identifier(b.name)) fail(b.where, b.key + ".name", "'" + b.name + "' is not a valid name (letters, digits, _)");
-      if (!seen.insert(b.name).second) fail(b.where, b.key + ".name", "duplicate body name '" + b.name + "'");
+      if (!body_index_.emplace(b.name, static_cast<int>(body_index_.size())).second)
+        fail(b.where, b.key + ".name", "duplicate body name '" + b.name + "'");
       Body body;
       body.name = b.name;
       body.mass = add(b.mass, false);
@@ -141,7 +148,9 @@ class Builder {
   }
 
   int body_ref(const std::string& name, const SourceLocation& w, const std::string& key) {
-    const int b = m_.find_body(name);
+    if (name == "ground") return -1;
+    const auto it = body_index_.find(name);
+    const int b = it == body_index_.end() ? -2 : it->second;
     if (b == -2) {
       std::vector<std::string> names{"ground"};
       for (const auto& x : m_.bodies) names.push_back(x.name);
@@ -151,11 +160,11 @@ class Builder {
   }
 
   void build_joints() {
-    std::set<std::string> seen;
     int q = 0, u = 0;
     for (const auto& js : spec_.joints) {
       if (!is_identifier(js.name)) fail(js.where, js.key + ".name", "'" + js.name + "' is not a valid name (letters, digits, _)");
-      if (!seen.insert(js.name).second) fail(js.where, js.key + ".name", "duplicate joint name '" + js.name + "'");
+      if (!joint_index_.emplace(js.name, static_cast<int>(joint_index_.size())).second)
+        fail(js.where, js.key + ".name", "duplicate joint name '" + js.name + "'");
       Joint j;
       j.name = js.name;
       j.type = js.type;
@@ -163,46 +172,7 @@ class Builder {
       j.child = body_ref(js.child, js.where, js.key + ".child");
       if (j.child == -1) fail(js.where, js.key + ".child", "ground cannot be a joint's child; swap parent and child");
       if (j.child == j.parent) fail(js.where, js.key + ".child", "a joint cannot connect body '" + js.child + "' to itself");
-      const std::string& n = j.name;
-      switch (j.type) {
-        case JointType::revolute:
-        case JointType::prismatic:
-          j.coordinate_names = {n + ".q"};
-          j.speed_names = {n + ".u"};
-          j.speeds = {SpeedAxis{j.type == JointType::revolute}};
-          break;
-        case JointType::cylindrical:
-          j.coordinate_names = {n + ".q1", n + ".q2"};
-          j.speed_names = {n + ".u1", n + ".u2"};
-          j.speeds = {SpeedAxis{true}, SpeedAxis{false}};
-          break;
-        case JointType::universal:
-          j.coordinate_names = {n + ".q1", n + ".q2"};
-          j.speed_names = {n + ".u1", n + ".u2"};
-          j.speeds = {SpeedAxis{true}, SpeedAxis{true}};
-          j.speeds[1].carriers = 1;
-          break;
-        case JointType::planar:
-          j.coordinate_names = {n + ".q1", n + ".q2", n + ".q3"};
-          j.speed_names = {n + ".u1", n + ".u2", n + ".u3"};
-          j.speeds = {SpeedAxis{false}, SpeedAxis{false}, SpeedAxis{true}};
-          j.speeds[2].carriers = 2;
-          break;
-        case JointType::spherical:
-          j.coordinate_names = {n + ".qw", n + ".qx", n + ".qy", n + ".qz"};
-          j.speed_names = {n + ".wx", n + ".wy", n + ".wz"};
-          for (int a = 0; a < 3; ++a) j.speeds.push_back(SpeedAxis{true, true, {-1, -1, -1}, a, 3});
-          j.quaternion_offset = 0;
-          break;
-        case JointType::free:
-          j.coordinate_names = {n + ".x", n + ".y", n + ".z", n + ".qw", n + ".qx", n + ".qy", n + ".qz"};
-          j.speed_names = {n + ".vx", n + ".vy", n + ".vz", n + ".wx", n + ".wy", n + ".wz"};
-          for (int a = 0; a < 3; ++a) j.speeds.push_back(SpeedAxis{false});
-          for (int a = 0; a < 3; ++a) j.speeds.push_back(SpeedAxis{true, true, {-1, -1, -1}, a, 6});
-          j.quaternion_offset = 3;
-          break;
-        case JointType::weld: break;
-      }
+      set_joint_kind(j);
       j.nq = static_cast<int>(j.coordinate_names.size());
       j.nu = static_cast<int>(j.speed_names.size());
       j.q_offset = q;
@@ -213,10 +183,16 @@ class Builder {
       }
       q += j.nq;
       u += j.nu;
+      if (u > kMaxSpeeds)
+        fail(js.where, js.key, "the scene has more than " + std::to_string(kMaxSpeeds) +
+                                   " speeds; kanesens handles at most that many (its mass matrix is dense)");
       m_.joints.push_back(std::move(j));
     }
     m_.nq = q;
     m_.nu = u;
+    if (u == 0)
+      fail(spec_.where.file.empty() ? SourceLocation{spec_.file, 0, 0} : spec_.where, "scene.joints",
+           "the scene has no degrees of freedom (every joint is a weld): there is nothing to integrate");
   }
 
   void build_topology() {
@@ -269,6 +245,10 @@ class Builder {
     m_.moves.assign(nb, std::vector<unsigned char>(m_.nu, 0));
     for (int b = 0; b < nb; ++b)
       for (int k : m_.ancestor_speeds[b]) m_.moves[b][k] = 1;
+    for (int ji : order) {
+      const Joint& j = m_.joints[ji];
+      m_.bodies[j.child].root_joint = j.parent >= 0 ? m_.bodies[j.parent].root_joint : ji;
+    }
   }
 
   void build_state_names() {
@@ -402,11 +382,9 @@ class Builder {
   }
 
   int joint_ref(const std::string& name, const SourceLocation& w, const std::string& key) {
+    if (const auto it = joint_index_.find(name); it != joint_index_.end()) return it->second;
     std::vector<std::string> names;
-    for (std::size_t j = 0; j < m_.joints.size(); ++j) {
-      if (m_.joints[j].name == name) return static_cast<int>(j);
-      names.push_back(m_.joints[j].name);
-    }
+    for (const Joint& j : m_.joints) names.push_back(j.name);
     fail(w, key, "'" + name + "' is not a joint" + did_you_mean(name, names) + "; joints are: " + join_names(names));
   }
 
@@ -419,6 +397,10 @@ class Builder {
       Constraint c;
       c.name = cs.name.empty() ? constraint_kind_name(cs.kind) + std::to_string(ci) : cs.name;
       c.kind = cs.kind;
+      // Row names are "<name>" or "<name>.x": a name must not contain a dot, or "pin" and
+      // "pin.x" would both name a row "pin.x".
+      if (!is_identifier(c.name))
+        fail(cs.where, cs.key + ".name", "'" + c.name + "' is not a valid name (letters, digits, _)");
       if (!seen.insert(c.name).second) fail(cs.where, cs.key + ".name", "duplicate constraint name '" + c.name + "'");
       std::vector<std::string> rows;
       if (cs.kind == ConstraintKind::coincident || cs.kind == ConstraintKind::distance) {
@@ -433,7 +415,16 @@ class Builder {
         } else {
           std::vector<int> comps = cs.components;
           if (comps.empty()) comps = planar ? std::vector<int>{0, 1} : std::vector<int>{0, 1, 2};
+          // At most the three world components, each once (they index a 3-element array).
+          if (comps.size() > 3)
+            fail(cs.where, cs.key + ".components", "at most 3 components (x, y, z), found " + std::to_string(comps.size()));
+          std::set<int> distinct;
           for (std::size_t i = 0; i < comps.size(); ++i) {
+            if (comps[i] < 0 || comps[i] > 2)
+              fail(cs.where, cs.key + ".components", "expected x, y or z, found component " + std::to_string(comps[i]));
+            if (!distinct.insert(comps[i]).second)
+              fail(cs.where, cs.key + ".components",
+                   std::string("component '") + static_cast<char>('x' + comps[i]) + "' is given twice");
             c.components[i] = comps[i];
             rows.push_back(c.name + "." + static_cast<char>('x' + comps[i]));
           }
@@ -445,6 +436,7 @@ class Builder {
         for (int j : {ja, jb})
           if (m_.joints[j].nu != 1 || m_.joints[j].nq != 1)
             fail(cs.where, cs.key, "a coupler links 1-DOF joints (revolute, prismatic); '" + m_.joints[j].name + "' is " + joint_type_name(m_.joints[j].type));
+        if (ja == jb) fail(cs.where, cs.key + ".joint_b", "a coupler links two different joints; both are '" + cs.joint_a + "'");
         c.speed_a = m_.joints[ja].u_offset;
         c.speed_b = m_.joints[jb].u_offset;
         c.coord_a = m_.joints[ja].q_offset;
@@ -458,11 +450,22 @@ class Builder {
           c.has_position = true;
           c.position = expr::compile(cs.position->text, position_names_, cs.position->where, cs.position->key);
           c.holonomic = {1};
-          // The velocity form a_k = ∂g/∂q_k needs u = q̇ for every speed.
+          if (!c.position.uses_any(expr::VarKind::coordinate))
+            fail(cs.position->where, cs.position->key,
+                 "the position function does not depend on any coordinate, so it constrains nothing");
+          // The velocity form a_k = ∂g/∂q_k needs u = q̇ for every coordinate it reads: any
+          // joint but a quaternion's components (the translation of a free joint is u = q̇).
           c.position_coordinate.assign(m_.nu, -1);
           for (const Joint& J : m_.joints) {
-            if (J.quaternion_offset >= 0) continue;
-            for (int k = 0; k < J.nu; ++k) c.position_coordinate[J.u_offset + k] = J.q_offset + k;
+            const int rates = J.quaternion_offset < 0 ? J.nu : J.quaternion_offset - J.q_offset;
+            for (int k = 0; k < rates; ++k) c.position_coordinate[J.u_offset + k] = J.q_offset + k;
+            for (int k = rates; k < J.nq; ++k)
+              if (c.position.uses(expr::VarKind::coordinate, J.q_offset + k))
+                fail(cs.position->where, cs.position->key,
+                     "'" + m_.coordinate_names[J.q_offset + k] + "' is a quaternion component of " +
+                         joint_type_name(J.type) + " joint '" + J.name +
+                         "'; a position function may use only coordinates whose rates are speeds (u = q̇); use a "
+                         "coincident or distance constraint, or the velocity form 'a'");
           }
         } else {
           for (const auto& [speed, text] : cs.a) {
@@ -472,6 +475,8 @@ class Builder {
             if (k < 0)
               fail(text.where, text.key, "'" + speed + "' is not a speed" + did_you_mean(speed, m_.speed_names) +
                                              "; speeds are: " + join_names(m_.speed_names));
+            for (const auto& entry : c.a)
+              if (entry.first == k) fail(text.where, text.key, "speed '" + speed + "' is given twice");
             c.a.emplace_back(k, expr::compile(text.text, position_names_, text.where, text.key));
           }
           c.a0 = cs.a0 ? expr::compile(cs.a0->text, position_names_, cs.a0->where, cs.a0->key) : expr::Expression(0.0);
@@ -485,12 +490,16 @@ class Builder {
         c.height = add(cs.height, false);
         c.axis = add3(cs.axis, false);
         c.normal = add3(cs.normal, false);
-        rows = {c.name + ".x", c.name + ".y", c.name + ".z"};
-        c.holonomic = {0, 0, 0};  // contact-point velocity; see dynamics/constraints.cpp
+        // Contact-point velocity in the plane's basis: two no-slip rows and the normal row,
+        // the derivative of the contact height (dynamics/equations.hpp).
+        rows = {c.name + ".t1", c.name + ".t2", c.name + ".n"};
+        c.holonomic = {0, 0, 1};
       }
       c.row_offset = row;
       c.nrows = static_cast<int>(rows.size());
       row += c.nrows;
+      if (row > kMaxSpeeds)
+        fail(cs.where, cs.key, "more than " + std::to_string(kMaxSpeeds) + " constraint rows; kanesens handles at most that many");
       m_.constraint_row_names.insert(m_.constraint_row_names.end(), rows.begin(), rows.end());
       m_.constraints.push_back(std::move(c));
     }
@@ -507,12 +516,13 @@ class Builder {
   const std::map<std::string, double>& overrides_;
   Model m_;
   expr::NameTable param_names_, state_names_, position_names_;
+  std::unordered_map<std::string, int> body_index_, joint_index_;  // name → index (linear build)
 };
 
 }  // namespace
 
 Model build_model(const SceneSpec& spec, const std::map<std::string, double>& overrides) {
-  if (spec.bodies.empty()) throw InputError({spec.file, 0, 0}, "scene.bodies", "a scene needs at least one body");
+  if (spec.bodies.empty()) throw InputError(spec.where.file.empty() ? SourceLocation{spec.file, 0, 0} : spec.where, "scene.bodies", "a scene needs at least one body");
   return Builder(spec, overrides).build();
 }
 

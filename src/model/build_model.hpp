@@ -11,6 +11,10 @@
 
 namespace kanesens::model {
 
+// Size limits of a scene (kanesens's mass matrix and constraint system are dense: nu² and m²).
+inline constexpr std::size_t kMaxBodies = 4096;
+inline constexpr int kMaxSpeeds = 4096;  // also the limit of constraint rows
+
 // `overrides`: parameter name → value (from --set), replacing the scene's value.
 Model build_model(const SceneSpec& spec, const std::map<std::string, double>& overrides = {});
 

@@ -53,6 +53,7 @@ struct Body {
   std::array<Slot, 6> inertia{};  // xx, yy, zz, xy, yz, xz of the central tensor, body frame
   int joint = -1;                 // the joint whose child this body is
   int parent = -1;                // parent body, -1 = ground
+  int root_joint = -1;            // the joint of its tree's root body (whose parent is ground)
 };
 
 struct Force {

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "math/dual.hpp"
+#include "math/multi_dual.hpp"
 #include "math/spatial.hpp"
 
 namespace kanesens::model {
@@ -23,6 +24,14 @@ void evaluate_parameter_values(const Model& m, const S* given, S* parameters, S*
 }
 template void evaluate_parameter_values<double>(const Model&, const double*, double*, double*);
 template void evaluate_parameter_values<Dual>(const Model&, const Dual*, Dual*, Dual*);
+template void evaluate_parameter_values<math::MultiDual<4>>(const Model&, const math::MultiDual<4>*,
+                                                             math::MultiDual<4>*, math::MultiDual<4>*);
+template void evaluate_parameter_values<math::MultiDual<8>>(const Model&, const math::MultiDual<8>*,
+                                                             math::MultiDual<8>*, math::MultiDual<8>*);
+template void evaluate_parameter_values<math::MultiDual<12>>(const Model&, const math::MultiDual<12>*,
+                                                             math::MultiDual<12>*, math::MultiDual<12>*);
+template void evaluate_parameter_values<math::MultiDual<16>>(const Model&, const math::MultiDual<16>*,
+                                                             math::MultiDual<16>*, math::MultiDual<16>*);
 
 std::optional<ParameterProblem> find_parameter_problem(const Model& model, const double* parameters) {
   std::vector<double> given(parameters, parameters + model.nparam()), values(model.expressions.size(), 0.0);
@@ -84,6 +93,30 @@ std::optional<ParameterProblem> find_parameter_problem(const Model& model, const
       return problem("joint '" + j.name + "': axis has zero length", axis_where(0), universal ? axis_key + "[0]" : axis_key);
     if (j.axis2[0] >= 0 && !(unit_or_zero<double>(vec3(j.axis2)).norm() > 0))
       return problem("joint '" + j.name + "': second axis has zero length", axis_where(1), axis_key + "[1]");
+    if (universal) {
+      const Eigen::Vector3d a1 = vec3(j.axis), a2 = vec3(j.axis2);
+      if (!(a1.cross(a2).norm() > 1e-9 * a1.norm() * a2.norm()))
+        return problem("joint '" + j.name + "': its two axes are parallel; a universal joint needs two independent axes",
+                       axis_where(1), axis_key + "[1]");
+    }
+  }
+  // Constraint sizes that make a row vanish or divide by zero wherever the bodies are.
+  for (std::size_t ci = 0; ci < model.constraints.size() && ci < spec.constraints.size(); ++ci) {
+    const Constraint& c = model.constraints[ci];
+    const ConstraintSpec& cs = spec.constraints[ci];
+    if (c.kind == ConstraintKind::distance && !(values[c.length] > 0))
+      return problem("constraint '" + c.name + "': length must be > 0, found " + std::to_string(values[c.length]) +
+                         " (points that coincide: use type: coincident)",
+                     cs.length.where, cs.length.key);
+    if (c.kind == ConstraintKind::rolling) {
+      if (!(values[c.radius] > 0))
+        return problem("constraint '" + c.name + "': radius must be > 0, found " + std::to_string(values[c.radius]),
+                       cs.radius.where, cs.radius.key);
+      if (!(vec3(c.axis).norm() > 0))
+        return problem("constraint '" + c.name + "': axis has zero length", cs.axis[0].where, cs.key + ".axis");
+      if (!(vec3(c.normal).norm() > 0))
+        return problem("constraint '" + c.name + "': normal has zero length", cs.normal[0].where, cs.key + ".normal");
+    }
   }
   return std::nullopt;
 }

@@ -4,12 +4,14 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
+#include <unordered_set>
+
+#include "util/input_text.hpp"
 
 namespace kanesens::model {
 
 YAML::Node load_yaml(const std::string& text, const std::string& file) {
+  check_input_text(text, file);  // UTF-8 without control characters, or file:line:column of the byte
   try {
     return YAML::Load(text);
   } catch (const YAML::Exception& e) {  // ParserException, and anything else the loader throws
@@ -18,13 +20,7 @@ YAML::Node load_yaml(const std::string& text, const std::string& file) {
   }
 }
 
-std::string read_text_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path, 0, 0}, "", "cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string read_text_file(const std::string& path) { return read_input_file(path); }
 
 std::string describe(const YAML::Node& node) {
   if (!node.IsDefined()) return "nothing";
@@ -63,15 +59,14 @@ void YamlReader::require_sequence(const YAML::Node& node, const std::string& key
 void YamlReader::check_keys(const YAML::Node& node, const std::string& key,
                             std::span<const std::string_view> allowed) const {
   require_map(node, key);
-  std::vector<std::string> seen;
+  std::unordered_set<std::string> seen;  // a map of 100 000 keys is checked in linear time
   for (const auto& kv : node) {
     if (!kv.first.IsScalar()) fail(kv.first, key, "expected a plain key, got " + describe(kv.first));
     const std::string& name = kv.first.Scalar();
     const std::string path = key.empty() ? name : key + "." + name;
     // yaml-cpp keeps both entries of a repeated key and node[k] returns the first: refuse it
     // rather than silently ignoring the second value.
-    if (std::find(seen.begin(), seen.end(), name) != seen.end()) fail(kv.first, path, "key '" + name + "' is given twice");
-    seen.push_back(name);
+    if (!seen.insert(name).second) fail(kv.first, path, "key '" + name + "' is given twice");
     if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
       fail(kv.first, path,
            "unknown key '" + name + "'" + did_you_mean(name, allowed) + "; expected one of: " + join_names(allowed));

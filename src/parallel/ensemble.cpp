@@ -17,10 +17,12 @@
 
 #include "io/run_file.hpp"
 #include "parallel/mpi_session.hpp"
+#include "parallel/resources.hpp"
 #include "parallel/stop_signal.hpp"
 #include "sim/simulate.hpp"
 #include "study/setup.hpp"
 #include "parallel/version.hpp"
+#include "util/did_you_mean.hpp"
 #include "util/version.hpp"
 
 namespace kanesens::parallel {
@@ -37,8 +39,8 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 constexpr int kStatusInvalidInputs = -100;  // sampled parameters are not physical (mass ≤ 0, ...)
 constexpr int kStatusException = -101;      // any other error while running the sample
 
-const std::vector<std::string> kStatNames = {"steps", "rhs_evals", "jac_evals", "nonlin_iters",
-                                             "error_test_fails", "sens_rhs_evals", "wall_seconds"};
+const std::vector<std::string> kStatNames = {"steps",          "rhs_evals",    "jac_evals",   "nonlin_iters",
+                                             "error_test_fails", "sens_rhs_evals", "repartitions", "wall_seconds"};
 
 std::string fnv1a_hex(const std::string& s) {
   unsigned long long h = 1469598103934665603ULL;
@@ -69,26 +71,19 @@ std::string broadcast_string(MPI_Comm comm, std::string s) {
   return s;
 }
 
-std::string human_bytes(double b) {
-  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
-  int u = 0;
-  while (b >= 1024 && u < 6) {
-    b /= 1024;
-    ++u;
-  }
-  char buf[64];
-  std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", b, units[u]);
-  return buf;
-}
-
 // Bytes the run file will take on disk: every per-sample dataset is allocated (and filled) when
 // the file is created (run_schema.cpp), so this is close to the final size. In double precision
 // to stay meaningful for absurd sizes (1e9 samples × 1e7 times).
 double estimate_file_bytes(const io::RunLayout& l) {
   const double T = static_cast<double>(l.times.size()), n = static_cast<double>(l.state_names.size());
   const double S = l.record_sensitivities ? static_cast<double>(l.sensitivity_names.size()) : 0.0;
+  const double So = static_cast<double>(l.sensitivity_names.size());
   const double values = static_cast<double>(l.parameter_names.size()) + n + (l.record_states ? T * n : 0.0) +
                         T * n * S + static_cast<double>(l.output_names.size()) * T +
+                        static_cast<double>(l.scalar_output_names.size()) +
+                        static_cast<double>(l.output_sensitivity_names.size()) * T * So +
+                        static_cast<double>(l.scalar_output_sensitivity_names.size()) * So +
+                        (l.record_poses ? T * static_cast<double>(l.body_names.size()) * 7 : 0.0) +
                         static_cast<double>(l.stat_names.size());
   const double labels = l.design_labels ? 3 * 8.0 : 0.0;
   const double per_sample =
@@ -98,12 +93,45 @@ double estimate_file_bytes(const io::RunLayout& l) {
   return static_cast<double>(l.nsamples) * per_sample + 8.0 * T + text + (1 << 20);  // + 1 MiB of HDF5 metadata
 }
 
+// Rows of consecutive samples wait in a block to be written together; the block is written
+// early once it holds this many bytes, so that its memory stays bounded whatever the chunk.
+constexpr double kBlockBytes = 32.0 * (1 << 20);
+
+// Bytes of one sample's results (a row of the run file, as the trajectory buffers hold it).
+double row_bytes(const io::RunLayout& l) {
+  const double T = static_cast<double>(l.times.size()), n = static_cast<double>(l.state_names.size());
+  const double S = l.record_sensitivities ? static_cast<double>(l.sensitivity_names.size()) : 0.0;
+  const double C = l.record_multipliers ? static_cast<double>(l.constraint_names.size()) : 0.0;
+  return 8.0 * (static_cast<double>(l.parameter_names.size()) + n + (l.record_states ? T * n : 0.0) + T * n * S +
+                T * C * (1 + S) + T * (3 + static_cast<double>(l.output_names.size())) +
+                static_cast<double>(l.stat_names.size())) +
+         static_cast<double>(io::RunFile::message_size);
+}
+
+// Checks that `ranks_here` ranks on one node can each hold a sample's results: the trajectory,
+// its copy into the block of rows to write, and that block. Returns the InputError line or "".
+std::string check_memory(const io::RunLayout& l, const StudySpec& st, int ranks_here) {
+  const double row = row_bytes(l);
+  const double per_rank = 2 * row + std::min(kBlockBytes + row, row * 64) + 8.0 * 4 * static_cast<double>(l.times.size());
+  const double available = available_memory_bytes();
+  if (per_rank * ranks_here <= available) return "";
+  const std::size_t S = l.record_sensitivities ? l.sensitivity_names.size() : 0;
+  return InputError::format(
+      st.time_where, "time",
+      "one sample's results (" + std::to_string(l.times.size()) + " times x " + std::to_string(l.state_names.size()) +
+          " states x (1 + " + std::to_string(S) + " sensitivities)) need about " + human_bytes(per_rank) +
+          " of memory per rank" +
+          (ranks_here > 1 ? " (" + std::to_string(ranks_here) + " ranks on this node: " + human_bytes(per_rank * ranks_here) + ")" : "") +
+          " but " + human_bytes(available) + " is available; use fewer output times, record less or fewer sensitivities" +
+          (ranks_here > 1 ? ", or fewer ranks per node" : ""));
+}
+
 // Rank 0 checks, before anything is created, that the output can be written: its directory
 // exists and is writable, it is not a directory, it does not exist (unless --resume or
 // --overwrite), and, for a new file, that the file system has room for it (statvfs). Returns
 // the formatted InputError line, or "" when all is well.
 std::string check_output(const std::string& output, const RunOptions& opt, const io::RunLayout& layout,
-                         const StudySpec& st) {
+                         const StudySpec& st, int ranks_here) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::path out(output);
@@ -112,9 +140,11 @@ std::string check_output(const std::string& output, const RunOptions& opt, const
     return InputError::format(where, key, what);
   };
   if (opt.resume && opt.overwrite) return error("--resume", "--resume and --overwrite exclude each other");
+  if (std::string problem = check_memory(layout, st, ranks_here); !problem.empty()) return problem;
   if (!fs::exists(dir, ec)) return error("-o", "cannot write '" + output + "': directory '" + dir.string() + "' does not exist");
   if (!fs::is_directory(dir, ec)) return error("-o", "cannot write '" + output + "': '" + dir.string() + "' is not a directory");
-  const bool exists = fs::exists(out, ec);
+  // symlink_status: a name that is taken counts, even by a dangling symbolic link.
+  const bool exists = fs::exists(fs::symlink_status(out, ec));
   if (exists && fs::is_directory(out, ec)) return error("-o", "'" + output + "' is a directory; name an .h5 file");
   if (opt.resume) {
     if (!exists) return error("--resume", "no file '" + output + "' to resume; run without --resume to start it");
@@ -124,6 +154,14 @@ std::string check_output(const std::string& output, const RunOptions& opt, const
   }
   if (exists && !opt.overwrite)
     return error("-o", "output file '" + output + "' already exists; pass --overwrite to replace it or --resume to continue it");
+  // The file is built as OUT.partial (created exclusively, never through a link) and renamed
+  // when complete; one left by a run killed during creation is replaced only with --overwrite.
+  const fs::path partial = output + ".partial";
+  const fs::file_status partial_status = fs::symlink_status(partial, ec);
+  if (fs::is_directory(partial_status))
+    return error("-o", "'" + partial.string() + "' (the name the output is built under) is a directory; remove it or choose another -o");
+  if (fs::exists(partial_status) && !opt.overwrite)
+    return error("-o", "'" + partial.string() + "' exists (the name the output is built under, left by an interrupted run?); remove it or pass --overwrite");
   if (::access(dir.c_str(), W_OK) != 0)
     return error("-o", "cannot write '" + output + "': directory '" + dir.string() + "' is not writable (" + std::strerror(errno) + ")");
   // Fault injection for the disk-full test: skip this check so that HDF5 itself hits ENOSPC.
@@ -221,6 +259,16 @@ struct Prepared {
       layout.output_names.push_back("position_residual");
       layout.output_names.push_back("velocity_residual");
     }
+    if (const sim::OutputPlan* plan = flags.outputs) {
+      layout.output_names.insert(layout.output_names.end(), plan->series_names.begin(), plan->series_names.end());
+      layout.scalar_output_names = plan->scalar_names;
+      if (!sens.empty()) {
+        layout.output_sensitivity_names = plan->series_names;
+        layout.scalar_output_sensitivity_names = plan->scalar_names;
+      }
+    }
+    for (const auto& b : model.bodies) layout.body_names.push_back(b.name);
+    layout.record_poses = flags.poses;
     layout.constraint_names = model.constraint_row_names;
     layout.stat_names = kStatNames;
     layout.nsamples = design.size();
@@ -262,6 +310,8 @@ struct Prepared {
 
 void validate_study(const std::string& study_path, const RunOptions& options) {
   const Prepared prepared(study_path, options, 1);
+  if (const std::string problem = check_memory(prepared.layout, prepared.setup.spec, 1); !problem.empty())
+    throw InputError({}, "", problem);
 }
 
 RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunOptions& opt) {
@@ -282,7 +332,15 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
   std::string output = opt.output;
   if (output.empty()) output = std::filesystem::path(study_path).stem().string() + ".h5";
   // Every rank takes rank 0's verdict, so all throw the same InputError (one line, exit 2).
-  if (const std::string problem = broadcast_string(comm, rank == 0 ? check_output(output, opt, layout, st) : "");
+  // Ranks sharing rank 0's node share its memory.
+  int ranks_here = 1;
+  {
+    MPI_Comm node = MPI_COMM_NULL;
+    check_mpi(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node), "MPI_Comm_split_type");
+    MPI_Comm_size(node, &ranks_here);
+    MPI_Comm_free(&node);
+  }
+  if (const std::string problem = broadcast_string(comm, rank == 0 ? check_output(output, opt, layout, st, ranks_here) : "");
       !problem.empty())
     throw InputError({}, "", problem);
   install_stop_handlers();
@@ -384,7 +442,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
           const auto& s = traj.result.stats;
           stats = {static_cast<double>(s.steps), static_cast<double>(s.rhs_evals), static_cast<double>(s.jac_evals),
                    static_cast<double>(s.nonlin_iters), static_cast<double>(s.error_test_fails),
-                   static_cast<double>(s.sens_rhs_evals), s.wall_seconds};
+                   static_cast<double>(s.sens_rhs_evals), static_cast<double>(s.repartitions), s.wall_seconds};
           if (!traj.result.ok()) {
             status = traj.result.status;
             message = traj.result.message;
@@ -412,11 +470,19 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
         outputs.insert(outputs.end(), traj.energy.begin(), traj.energy.end());
         outputs.insert(outputs.end(), traj.position_residual.begin(), traj.position_residual.end());
         outputs.insert(outputs.end(), traj.velocity_residual.begin(), traj.velocity_residual.end());
+        outputs.insert(outputs.end(), traj.outputs.begin(), traj.outputs.end());
         row.outputs = outputs;
+        row.scalar_outputs = traj.scalar_outputs;
+        row.output_sensitivities = traj.output_sensitivities;
+        row.scalar_output_sensitivities = traj.scalar_output_sensitivities;
+        row.poses = traj.poses;
         row.multipliers = traj.multipliers;
         row.stats = stats;
         if (block.count > 0 && i != block.first + block.count) flush_block();
         block.append(row);
+        if (8.0 * static_cast<double>(block.states.size() + block.sensitivities.size() + block.multipliers.size() +
+                                      block.outputs.size()) >= kBlockBytes)
+          flush_block();  // bounded memory (check_memory counts on it)
       }
       flush_block();  // a chunk's samples reach the file when the chunk ends (or stops)
       // One message per chunk, not per sample: at scale the counter on rank 0 sees one atomic

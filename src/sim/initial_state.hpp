@@ -20,7 +20,8 @@ namespace kanesens::sim {
 struct InitialState {
   std::vector<double> y;               // nstate: [q; u]
   std::vector<std::vector<double>> s;  // ns × nstate: ∂y/∂(sensitivity i)
-  // Size of the correction that made y consistent: max |Δq|, max |Δu| (0 without one).
+  // Size of the correction that made y consistent: max over the components of |Δq|, |Δu| (0
+  // without one).
   double position_correction = 0, velocity_correction = 0;
 };
 

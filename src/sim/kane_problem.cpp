@@ -1,6 +1,7 @@
 #include "sim/kane_problem.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -23,7 +24,10 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       holonomic_(model),
       projector_(model, holonomic_),
       y_dual_(model.nstate()),
-      ydot_dual_(model.nstate()) {
+      ydot_dual_(model.nstate()),
+      sensitivity_blocks_(model, static_cast<int>(sens_.size())),
+      u_full_(static_cast<std::size_t>(model.nu)),
+      s_full_(static_cast<std::size_t>(model.nstate())) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
   if (options_.stabilization == ConstraintOptions::Stabilization::baumgarte) {
     dynamics_.baumgarte_alpha = options_.alpha;
@@ -49,10 +53,30 @@ void KaneProblem::set_sample(const SampleInputs& inputs) {
       Workspace<double>& ws = workspaces_.values();
       const std::vector<double> zero(static_cast<std::size_t>(model_.nu), 0.0);
       dynamics::evaluate_constraints(model_, ws, t0_, initial_.y.data(), zero.data());
-      sets_ = dynamics::choose_embedding(ws.constraint_matrix);
+      sets0_ = sets_ = dynamics::choose_embedding(ws.constraint_matrix);
+      amplification0_ = amplification_ref_ = dynamics::embedding_amplification(ws.constraint_matrix, sets_);
       sc_ = std::make_unique<dynamics::EmbeddingScratch<double>>(model_, sets_);
       sc_dual_ = std::make_unique<dynamics::EmbeddingScratch<Dual>>(model_, sets_);
     }
+    // Jacobian blocks cover size() columns, which the embedding's sets decide.
+    if (jacobian_blocks_size_ != size()) {
+      jacobian_blocks_ = TangentBlocks(model_, size());
+      jacobian_blocks_size_ = size();
+    }
+    auto load = [&](auto& b, bool with_sensitivities) {
+      using MD = typename std::decay_t<decltype(b)>::Scalar;
+      std::vector<MD> p(inputs.parameters.begin(), inputs.parameters.end());
+      if (with_sensitivities)
+        for (int i = 0; i < b.count; ++i) {
+          const InputRef& in = sens_[static_cast<std::size_t>(b.first + i)];
+          if (in.kind == InputRef::Kind::parameter) p[static_cast<std::size_t>(in.index)].set_d(i, 1.0);
+        }
+      dynamics::set_parameters(model_, b.ws, p.data());
+      b.embedding.reset();
+      if (embedded_) b.embedding = std::make_unique<dynamics::EmbeddingScratch<MD>>(model_, sets_);
+    };
+    jacobian_blocks_.for_each([&](auto& b) { load(b, false); });
+    sensitivity_blocks_.for_each([&](auto& b) { load(b, true); });
   } catch (const InputError& e) {
     failure_ = e;
     throw;
@@ -65,6 +89,9 @@ void KaneProblem::check_initial_state() const {
 
 void KaneProblem::initial_state(double* y0) const {
   check_initial_state();
+  sets_ = sets0_;
+  amplification_ref_ = amplification0_;
+  failure_cause_.clear();
   const int nq = model_.nq;
   std::copy(initial_.y.begin(), initial_.y.begin() + nq, y0);
   if (!embedded_) {
@@ -78,6 +105,7 @@ void KaneProblem::initial_state(double* y0) const {
 void KaneProblem::initial_sensitivity(int i, double* s0) const {
   check_initial_state();
   const int nq = model_.nq;
+  const dynamics::EmbeddingSets& sets_ = sets0_;
   const std::vector<double>& s = initial_.s[static_cast<std::size_t>(i)];
   std::copy(s.begin(), s.begin() + nq, s0);
   if (!embedded_) {
@@ -89,43 +117,154 @@ void KaneProblem::initial_sensitivity(int i, double* s0) const {
 }
 
 template <class S>
-bool KaneProblem::evaluate(Workspace<S>& ws, const S& t, const S* y, S* ydot) {
-  if (!embedded_) return dynamics::evaluate_rhs(model_, ws, t, y, ydot, dynamics_);
+void KaneProblem::evaluate(Workspace<S>& ws, const S& t, const S* y, S* ydot) {
+  if (!embedded_) {
+    dynamics::RhsFailure why = dynamics::RhsFailure::none;
+    if (!dynamics::evaluate_rhs(model_, ws, t, y, ydot, dynamics_, &why)) throw RecoverableError(dynamics::describe(why));
+    return;
+  }
   if constexpr (std::is_same_v<S, double>) {
-    return dynamics::embedded_rhs(model_, ws, *sc_, sets_, t, y, ydot, dynamics_);
+    if (!dynamics::embedded_rhs(model_, ws, *sc_, sets_, t, y, ydot, dynamics_)) throw_embedding_failure(*sc_, t);
   } else {
-    return dynamics::embedded_rhs(model_, ws, *sc_dual_, sets_, t, y, ydot, dynamics_);
+    if (!dynamics::embedded_rhs(model_, ws, *sc_dual_, sets_, t, y, ydot, dynamics_))
+      throw_embedding_failure(*sc_dual_, math::value_of(t));
   }
 }
 
+template <class Scratch>
+void KaneProblem::throw_embedding_failure(const Scratch& sc, double t) const {
+  if (!(sc.conditioning <= 1e10) || !(sc.amplification <= 1e12)) throw RecoverableError(embedding_failure(t, "have lost rank"));
+  throw RecoverableError("embedding: the mass matrix is not positive definite");
+}
+
+std::string KaneProblem::embedding_failure(double t, const char* what) const {
+  // The earliest since the last accepted step: where the trouble begins.
+  if (!failure_cause_.empty() && failure_t_ <= t) return failure_cause_;
+  failure_t_ = t;
+  std::string rows;
+  for (int r : sets_.rows) rows += (rows.empty() ? "" : ", ") + model_.constraint_row_names[static_cast<std::size_t>(r)];
+  char when[48];
+  std::snprintf(when, sizeof when, "%.10g", t);
+  failure_cause_ = std::string("embedding: at t = ") + when + " the constraint rows " + rows + " " + what +
+                   ": no choice of independent speeds parameterises the motion there (a singular position of "
+                   "the constraints); use formulation: multipliers";
+  return failure_cause_;
+}
+
 void KaneProblem::rhs(double t, const double* y, double* ydot) {
-  if (evaluate(workspaces_.values(), t, y, ydot)) {
-    if (embedded_ && sc_->conditioning > 1e10)
-      throw std::runtime_error("embedding: the independent speeds chosen at t0 no longer parameterise the motion at t = " +
-                               std::to_string(t) + " (dependent-speed matrix conditioning " +
-                               std::to_string(sc_->conditioning) + "); use formulation: multipliers");
+  evaluate(workspaces_.values(), t, y, ydot);
+  // A partition that degrades is re-chosen between steps (after_step); one this bad means every
+  // partition is (the re-choice keeps the best). A trial point there is rejected (a smaller step
+  // may stay short of it).
+  if (embedded_ && (sc_->conditioning > 1e10 || sc_->amplification > 1e12))
+    throw RecoverableError(embedding_failure(t, "have (nearly) lost rank"));
+}
+
+template <int W>
+void KaneProblem::evaluate_block(TangentBlock<W>& b, double t) {
+  using MD = math::MultiDual<W>;
+  if (embedded_) {
+    if (!dynamics::embedded_rhs(model_, b.ws, *b.embedding, sets_, MD(t), b.y.data(), b.ydot.data(), dynamics_))
+      throw_embedding_failure(*b.embedding, t);
     return;
   }
-  if (embedded_)
-    throw std::runtime_error("embedding: singular mass matrix or dependent-speed matrix at t = " + std::to_string(t));
-  throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
+  dynamics::RhsFailure why = dynamics::RhsFailure::none;
+  if (!dynamics::evaluate_rhs(model_, b.ws, MD(t), b.y.data(), b.ydot.data(), dynamics_, &why))
+    throw RecoverableError(dynamics::describe(why));
+}
+
+// Columns in blocks: a block seeds e_c on y_c for each of its columns c and reads them all from
+// one pass.
+
+bool KaneProblem::after_step(double t, double* y, double* const* s) {
+  if (!embedded_) return false;
+  if (!failure_cause_.empty()) {
+    // A trial point failed: forget it once a step got past it; steps crowding against it mean
+    // the constraints do lose rank there.
+    if (failure_t_ - t <= 1e-8 * std::max(1.0, std::abs(t))) throw std::runtime_error(failure_cause_);
+    if (t > failure_t_) failure_cause_.clear();
+  }
+  const int nq = model_.nq;
+  Workspace<double>& ws = workspaces_.values();
+  if (!dynamics::reconstruct_speeds(model_, ws, *sc_, sets_, t, y, y + nq, u_full_.data()))
+    throw std::runtime_error(embedding_failure(t, "have lost rank"));
+  const double kappa = sc_->amplification;
+  if (!(kappa > kRepartitionGrowth * std::max(amplification_ref_, 1.0))) return false;
+  // reconstruct_speeds evaluated the rows at (t, q, u = 0): constraint_matrix is A at q.
+  const Eigen::MatrixXd A = ws.constraint_matrix;
+  const dynamics::EmbeddingSets next = dynamics::choose_embedding(A);
+  if (next.rows.size() < sets_.rows.size()) throw std::runtime_error(embedding_failure(t, "have lost rank"));
+  const double kappa_next = dynamics::embedding_amplification(A, next);
+  if (!(2 * kappa_next < kappa) || next.independent == sets_.independent) {
+    amplification_ref_ = kappa;  // no better partition here: look again after a further growth
+    return false;
+  }
+  // The full speeds (and their sensitivities) are those of the old partition; the new state is
+  // their new independent components.
+  const std::size_t nn = next.independent.size();
+  for (int i = 0; s && i < num_sensitivities(); ++i) {
+    full_sensitivity(t, y, i, s[i], s_full_.data());
+    for (std::size_t c = 0; c < nn; ++c) s[i][nq + static_cast<int>(c)] = s_full_[static_cast<std::size_t>(nq + next.independent[c])];
+  }
+  for (std::size_t c = 0; c < nn; ++c) y[nq + static_cast<int>(c)] = u_full_[static_cast<std::size_t>(next.independent[c])];
+  sets_ = next;
+  amplification_ref_ = kappa_next;
+  return true;
 }
 
 void KaneProblem::jacobian(double t, const double* y, const double*, double* J) {
   const int n = size();
-  for (int c = 0; c < n; ++c) {
-    for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], r == c ? 1.0 : 0.0);
-    if (!evaluate(workspaces_.jacobian(), Dual(t), y_dual_.data(), ydot_dual_.data()))
-      throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
-    for (int r = 0; r < n; ++r) J[r + c * n] = ydot_dual_[r].d;
+  jacobian_blocks_.for_each([&](auto& b) {
+    for (int r = 0; r < n; ++r) {
+      b.y[r].v = y[r];
+      b.y[r].set_tangents([&](int i) { return b.first + i == r ? 1.0 : 0.0; }, b.count);
+    }
+    evaluate_block(b, t);
+    for (int i = 0; i < b.count; ++i) {
+      double* column = J + static_cast<std::ptrdiff_t>(b.first + i) * n;
+      for (int r = 0; r < n; ++r) column[r] = b.ydot[r].d(i);
+    }
+  });
+}
+
+// Tangent i of a block is (s_i on y, e_p on its parameter — set by set_sample), so one pass gives
+// J s_i + ∂f/∂p_i for all the block's sensitivities.
+void KaneProblem::sensitivity_rhs_all(double t, const double* y, const double*, int, const double* const* s,
+                                      double* const* sdot) {
+  const int n = size();
+  sensitivity_blocks_.for_each([&](auto& b) {
+    for (int r = 0; r < n; ++r) {
+      b.y[r].v = y[r];
+      b.y[r].set_tangents([&](int i) { return s[b.first + i][r]; }, b.count);
+    }
+    evaluate_block(b, t);
+    for (int i = 0; i < b.count; ++i)
+      for (int r = 0; r < n; ++r) sdot[b.first + i][r] = b.ydot[r].d(i);
+  });
+}
+
+// f is the value part of the first sensitivity pass.
+void KaneProblem::rhs_with_sensitivities(double t, const double* y, int ns, const double* const* s, double* ydot,
+                                         double* const* sdot) {
+  if (ns == 0) {
+    rhs(t, y, ydot);
+    return;
   }
+  sensitivity_rhs_all(t, y, nullptr, ns, s, sdot);
+  bool first = true;
+  sensitivity_blocks_.for_each([&](auto& b) {
+    if (!first) return;
+    first = false;
+    for (int r = 0; r < size(); ++r) ydot[r] = b.ydot[r].v;
+    if (embedded_ && (b.embedding->conditioning > 1e10 || b.embedding->amplification > 1e12))
+      throw RecoverableError(embedding_failure(t, "have (nearly) lost rank"));
+  });
 }
 
 void KaneProblem::sensitivity_rhs(double t, const double* y, const double*, int i, const double* s, double* sdot) {
   const int n = size();
   for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], s[r]);
-  if (!evaluate(workspaces_.tangent(i), Dual(t), y_dual_.data(), ydot_dual_.data()))
-    throw std::runtime_error("mass matrix is not positive definite at t = " + std::to_string(t));
+  evaluate(workspaces_.tangent(i), Dual(t), y_dual_.data(), ydot_dual_.data());
   for (int r = 0; r < n; ++r) sdot[r] = ydot_dual_[r].d;
 }
 
@@ -155,7 +294,7 @@ void KaneProblem::full_state(double t, const double* y, double* y_full) {
     return;
   }
   if (!dynamics::reconstruct_speeds(model_, workspaces_.values(), *sc_, sets_, t, y, y + nq, y_full + nq))
-    throw std::runtime_error("embedding: the dependent-speed matrix is singular at t = " + std::to_string(t));
+    throw std::runtime_error(embedding_failure(t, "have lost rank"));
 }
 
 void KaneProblem::full_sensitivity(double t, const double* y, int i, const double* s, double* s_full) {
@@ -169,7 +308,7 @@ void KaneProblem::full_sensitivity(double t, const double* y, int i, const doubl
   std::vector<Dual> u(static_cast<std::size_t>(model_.nu));
   if (!dynamics::reconstruct_speeds(model_, workspaces_.tangent(i), *sc_dual_, sets_, Dual(t), y_dual_.data(),
                                     y_dual_.data() + nq, u.data()))
-    throw std::runtime_error("embedding: the dependent-speed matrix is singular at t = " + std::to_string(t));
+    throw std::runtime_error(embedding_failure(t, "have lost rank"));
   for (int k = 0; k < model_.nu; ++k) s_full[nq + k] = u[static_cast<std::size_t>(k)].d;
 }
 

@@ -26,6 +26,7 @@
 #include "sim/projector.hpp"
 #include "sim/sample_workspaces.hpp"
 #include "sim/solve/ode_problem.hpp"
+#include "sim/tangent_blocks.hpp"
 #include "util/error.hpp"
 
 namespace kanesens::sim {
@@ -50,6 +51,11 @@ class KaneProblem final : public OdeProblem {
     return embedded_ ? model_.nq + static_cast<int>(sets_.independent.size()) : model_.nstate();
   }
   void initial_state(double* y0) const override;
+  // Checks the current sample at t0 as validation does before a run (sim/initial_checks.cpp):
+  // its consistent initial state exists (no constraint vanishes or is non-finite there, the
+  // correction converges) and Kane's equations give finite values there with a positive
+  // definite mass matrix. Throws InputError naming what is wrong and where it was written.
+  void validate_initial_state() const;
   void rhs(double t, const double* y, double* ydot) override;
   bool has_jacobian() const override { return true; }
   void jacobian(double t, const double* y, const double* ydot, double* J) override;
@@ -58,9 +64,25 @@ class KaneProblem final : public OdeProblem {
   bool has_sensitivity_rhs() const override { return true; }
   void sensitivity_rhs(double t, const double* y, const double* ydot, int i, const double* s,
                        double* sdot) override;
+  // All sensitivities in multi-tangent passes (blocks of up to 16), and with f from the first
+  // pass (DOP853's stages).
+  void sensitivity_rhs_all(double t, const double* y, const double* ydot, int ns, const double* const* s,
+                           double* const* sdot) override;
+  void rhs_with_sensitivities(double t, const double* y, int ns, const double* const* s, double* ydot,
+                              double* const* sdot) override;
   std::vector<double> sensitivity_scales() const override;
   double* dq_parameters() override { return workspaces_.dq_parameters(); }
   std::vector<int> dq_parameter_list() const override { return workspaces_.dq_parameter_list(); }
+
+  // The embedding re-chooses its independent speeds (coordinate partitioning with re-selection,
+  // docs/constraints.md): after every step it measures the amplification κ = max |A_d⁻¹ A_i|;
+  // once κ has grown kRepartitionGrowth-fold (from max(κ at the last choice, 1)), it picks the
+  // best-conditioned partition at the current state and, if that halves κ, maps the state and
+  // the sensitivities to it (the full speeds and their sensitivities are the same in both).
+  // Throws, naming the rows and the time, when A has lost rank (no partition exists).
+  static constexpr double kRepartitionGrowth = 4;
+  bool has_step_check() const override { return embedded_; }
+  bool after_step(double t, double* y, double* const* s) override;
 
   bool has_projection() const override {
     return model_.nconstraint_rows > 0 && options_.stabilization == ConstraintOptions::Stabilization::projection;
@@ -68,6 +90,10 @@ class KaneProblem final : public OdeProblem {
   int project(double t, const double* y, double* corr, double eps_proj, double* err) override;
   // Whether simulate() projects the recorded sensitivities (projection + project_sensitivities).
   bool projects_sensitivities() const { return has_projection() && options_.project_sensitivities; }
+
+  // The cause of this run's failure when the problem knows it better than the integrator's flag
+  // (the embedding's constraints losing rank); "" otherwise. simulate() puts it first.
+  const std::string& failure_cause() const { return failure_cause_; }
 
   bool embedded() const { return embedded_; }
   const dynamics::EmbeddingSets& embedding_sets() const { return sets_; }
@@ -94,12 +120,17 @@ class KaneProblem final : public OdeProblem {
   double initial_velocity_correction() const { return initial_.velocity_correction; }
   const model::Model& model() const { return model_; }
   const std::vector<InputRef>& sensitivities() const { return sens_; }
+  // The sample's workspaces (values and tangents) and the dynamics options of the integrated
+  // equations, for evaluations at recorded states (sim/output_evaluator.hpp).
+  SampleWorkspaces& workspaces() { return workspaces_; }
+  const dynamics::DynamicsOptions& dynamics_options() const { return dynamics_; }
 
  private:
   // The integrated right-hand side on scalar S, in the workspace given: the multiplier form, or
-  // the embedding's. False if M (or A_d) is singular.
+  // the embedding's. Throws solve's RecoverableError, saying why, where u̇ cannot be computed (a
+  // singular M or A_d, a degenerate constraint system): the integrator retries smaller.
   template <class S>
-  bool evaluate(dynamics::Workspace<S>& ws, const S& t, const S* y, S* ydot);
+  void evaluate(dynamics::Workspace<S>& ws, const S& t, const S* y, S* ydot);
   // Throws the failure of the current sample's initial state, if any.
   void check_initial_state() const;
 
@@ -113,11 +144,31 @@ class KaneProblem final : public OdeProblem {
   Projector projector_;
   InitialState initial_;
   std::optional<InputError> failure_;  // why the current sample's initial state is unavailable
+  // Why the embedding cannot go on at t: A_d singular, or A of lower rank than at t0 (rows named).
+  // The earliest such message since the last accepted step is kept (failure_cause).
+  std::string embedding_failure(double t, const char* what) const;
+
   bool embedded_ = false;
-  dynamics::EmbeddingSets sets_;
+  dynamics::EmbeddingSets sets0_;  // the partition chosen at t0
+  // The partition in use and κ when it was chosen: initial_state() restores sets0_ (the
+  // integrator starts every run there), after_step() re-chooses.
+  mutable dynamics::EmbeddingSets sets_;
+  mutable double amplification_ref_ = 0, amplification0_ = 0;
+  mutable std::string failure_cause_;
+  mutable double failure_t_ = 0;
   std::unique_ptr<dynamics::EmbeddingScratch<double>> sc_;
   std::unique_ptr<dynamics::EmbeddingScratch<math::Dual>> sc_dual_;
   std::vector<math::Dual> y_dual_, ydot_dual_;  // the dual evaluations' state (allocated once)
+  // Multi-tangent passes: the Jacobian's columns (no parameter tangent) and the sensitivities
+  // (each parameter sensitivity's tangent e_p set per sample).
+  TangentBlocks jacobian_blocks_, sensitivity_blocks_;
+  int jacobian_blocks_size_ = -1;
+  template <int W>
+  void evaluate_block(TangentBlock<W>& b, double t);
+  // The embedding could not evaluate: rank lost (the rows named) or M not positive definite.
+  template <class Scratch>
+  [[noreturn]] void throw_embedding_failure(const Scratch& sc, double t) const;
+  std::vector<double> u_full_, s_full_;  // after_step scratch (nu, nstate)
 };
 
 }  // namespace kanesens::sim

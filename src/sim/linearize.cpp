@@ -73,25 +73,20 @@ struct Chart {
   }
 };
 
-// The position constraints h(q) at (t, q, u): holonomic rows' residuals, then each rolling
-// constraint's contact height. Leaves the constraints evaluated in ws.
+// The position constraints h(q) at (t, q, u): the holonomic rows' residuals (a rolling contact's
+// normal row among them: its contact height). Leaves the constraints evaluated in ws.
 int count_position_constraints(const Model& m) {
   int n = 0;
-  for (const Constraint& c : m.constraints) {
-    n += static_cast<int>(std::count(c.holonomic.begin(), c.holonomic.end(), 1));
-    if (c.kind == Constraint::Kind::rolling) ++n;
-  }
+  for (const Constraint& c : m.constraints) n += static_cast<int>(std::count(c.holonomic.begin(), c.holonomic.end(), 1));
   return n;
 }
 void position_constraints(const Model& m, Workspace<Dual>& ws, double t, const std::vector<Dual>& q,
                           const std::vector<Dual>& u, std::vector<Dual>& h) {
   dynamics::evaluate_constraints(m, ws, Dual(t), q.data(), u.data());
   std::size_t i = 0;
-  for (const Constraint& c : m.constraints) {
+  for (const Constraint& c : m.constraints)
     for (int r = 0; r < c.nrows; ++r)
       if (c.holonomic[static_cast<std::size_t>(r)]) h[i++] = ws.position_residual[c.row_offset + r];
-    if (c.kind == Constraint::Kind::rolling) h[i++] = dynamics::rolling_height(ws, c);
-  }
 }
 
 // Dependent-column preference: floating joints' translations, then their rotations, then the
@@ -245,8 +240,10 @@ Linearization linearize(const Model& m, const std::vector<double>& parameters, d
     }
     std::copy(q.begin(), q.end(), yd.begin());
     std::copy(u.begin(), u.end(), yd.begin() + nq);
-    if (!dynamics::evaluate_rhs(m, ws, Dual(t), yd.data(), ydot.data()))
-      throw std::runtime_error("linearize: the mass matrix is not positive definite at this state");
+    dynamics::RhsFailure failure = dynamics::RhsFailure::none;
+    if (!dynamics::evaluate_rhs(m, ws, Dual(t), yd.data(), ydot.data(), {}, &failure))
+      throw std::runtime_error(std::string("linearize: the accelerations cannot be computed at this state: ") +
+                               dynamics::describe(failure));
     for (int i = 0; i < niq; ++i) {
       const std::size_t c = static_cast<std::size_t>(ind_q[static_cast<std::size_t>(i)]);
       Dual rate = u[c];

@@ -9,9 +9,9 @@
 // child-frame components, q = q* ⊗ (1, δθ/2) normalised, named `J.rx`, `J.ry`, `J.rz`. Its rate
 // is the chart's: δθ̇ = ω + ½ δθ × ω.
 //
-// Constraints. The position constraints h(q) = 0 — holonomic rows and the contact height of each
-// `rolling` constraint — fix rank(∂h/∂q) dependent coordinates; the velocity constraints
-// A u + a0 = 0 (all rows, holonomic or not) fix rank(A) dependent speeds. A nonholonomic system
+// Constraints. The position constraints h(q) = 0 — the holonomic rows, a `rolling` constraint's
+// normal row (its contact height) among them — fix rank(∂h/∂q) dependent coordinates; the
+// velocity constraints A u + a0 = 0 (all rows, holonomic or not) fix rank(A) dependent speeds. A nonholonomic system
 // therefore keeps more coordinates than speeds. Each perturbed state is made consistent exactly
 // to first order: δq_d = −(∂h/∂q_d)⁻¹ ∂h/∂q_i δq_i, u_d solved from the constraints in duals.
 //
@@ -52,7 +52,7 @@ std::vector<std::string> chart_coordinate_names(const model::Model& model);
 
 // Linearizes about y = [q; u] (nstate) at time t with the given parameter values (np). Throws
 // InputError when a named coordinate or speed is unknown, dependent, or leaves a non-ignorable one
-// out, and std::runtime_error when the mass matrix is singular at the state.
+// out, and std::runtime_error when u̇ cannot be computed at the state (evaluate_rhs fails).
 Linearization linearize(const model::Model& model, const std::vector<double>& parameters, double t,
                         const std::vector<double>& y, const LinearizeOptions& options = {});
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "dynamics/equations.hpp"
 
@@ -14,12 +16,13 @@ using model::Model;
 
 namespace {
 // The multiplier-form right-hand side on duals at (y, s).
-void evaluate_dual(const Model& m, DualWorkspace& ws, const DynamicsOptions& options, double t, const double* y,
+// False where u̇ (and λ) cannot be computed: the outputs that need them are then NaN.
+bool evaluate_dual(const Model& m, DualWorkspace& ws, const DynamicsOptions& options, double t, const double* y,
                    const double* s) {
   const int n = m.nstate();
   std::vector<Dual> yd(static_cast<std::size_t>(n)), ydot(static_cast<std::size_t>(n));
   for (int r = 0; r < n; ++r) yd[static_cast<std::size_t>(r)] = Dual(y[r], s[r]);
-  dynamics::evaluate_rhs(m, ws, Dual(t), yd.data(), ydot.data(), options);
+  return dynamics::evaluate_rhs(m, ws, Dual(t), yd.data(), ydot.data(), options);
 }
 }  // namespace
 
@@ -35,21 +38,25 @@ double energy(const Model& m, Workspace<double>& ws, double t, const double* y) 
 void multipliers(const Model& m, Workspace<double>& ws, const DynamicsOptions& options, double t, const double* y,
                  double* lambda) {
   std::vector<double> ydot(static_cast<std::size_t>(m.nstate()));
-  dynamics::evaluate_rhs(m, ws, t, y, ydot.data(), options);
-  for (int r = 0; r < m.nconstraint_rows; ++r) lambda[r] = ws.multipliers[r];
+  // Where λ cannot be determined it is recorded as NaN, never as a silent 0.
+  const bool ok = dynamics::evaluate_rhs(m, ws, t, y, ydot.data(), options);
+  for (int r = 0; r < m.nconstraint_rows; ++r) lambda[r] = ok ? ws.multipliers[r] : std::nan("");
 }
 
 void multiplier_sensitivity(const Model& m, DualWorkspace& ws, const DynamicsOptions& options, double t,
                             const double* y, const double* s, double* dlambda) {
-  evaluate_dual(m, ws, options, t, y, s);
-  for (int r = 0; r < m.nconstraint_rows; ++r) dlambda[r] = ws.multipliers[r].d;
+  const bool ok = evaluate_dual(m, ws, options, t, y, s);
+  for (int r = 0; r < m.nconstraint_rows; ++r) dlambda[r] = ok ? ws.multipliers[r].d : std::nan("");
 }
 
 void constraint_residuals(const Model& m, Workspace<double>& ws, const DynamicsOptions& options,
                           const std::vector<int>& holonomic_rows, double t, const double* y, double& position,
                           double& velocity) {
   std::vector<double> ydot(static_cast<std::size_t>(m.nstate()));
-  dynamics::evaluate_rhs(m, ws, t, y, ydot.data(), options);
+  if (!dynamics::evaluate_rhs(m, ws, t, y, ydot.data(), options)) {
+    position = velocity = std::nan("");
+    return;
+  }
   position = 0;
   velocity = 0;
   for (int r : holonomic_rows) position = std::max(position, std::abs(ws.position_residual[r]));
@@ -59,7 +66,10 @@ void constraint_residuals(const Model& m, Workspace<double>& ws, const DynamicsO
 void sensitivity_constraint_residuals(const Model& m, DualWorkspace& ws, const DynamicsOptions& options,
                                       const std::vector<int>& holonomic_rows, double t, const double* y,
                                       const double* s, double& position, double& velocity) {
-  evaluate_dual(m, ws, options, t, y, s);
+  if (!evaluate_dual(m, ws, options, t, y, s)) {
+    position = velocity = std::nan("");
+    return;
+  }
   position = 0;
   velocity = 0;
   for (int r : holonomic_rows) position = std::max(position, std::abs(ws.position_residual[r].d));

@@ -1,5 +1,8 @@
 #include "sim/projector.hpp"
 
+#include <stdexcept>
+#include <string>
+
 #include "dynamics/equations.hpp"
 
 namespace kanesens::sim {
@@ -69,7 +72,8 @@ void Projector::project_sensitivity(Workspace<Dual>& ws, const dynamics::Dynamic
   std::vector<Dual> yd(static_cast<std::size_t>(n)), ydot(static_cast<std::size_t>(n));
   auto evaluate = [&] {
     for (int r = 0; r < n; ++r) yd[static_cast<std::size_t>(r)] = Dual(y[r], s[r]);
-    dynamics::evaluate_rhs(model_, ws, Dual(t), yd.data(), ydot.data(), options);
+    if (!dynamics::evaluate_rhs(model_, ws, Dual(t), yd.data(), ydot.data(), options))
+      throw std::runtime_error("sensitivity projection: mass matrix is not positive definite at t = " + std::to_string(t));
   };
   evaluate();
   if (mh > 0) {

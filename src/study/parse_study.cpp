@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -26,10 +27,15 @@ double read_setting(const YamlReader& r, const YAML::Node& n, const std::string&
   }
 }
 
-long read_whole_setting(const YamlReader& r, const YAML::Node& n, const std::string& key, long min) {
+long read_whole_setting(const YamlReader& r, const YAML::Node& n, const std::string& key, long min,
+                        long max = 9'000'000'000'000'000L) {
   const double v = read_setting(r, n, key);
-  if (v != std::floor(v) || v < static_cast<double>(min) || v > 9.0e15)
-    r.fail(n, key, "expected a whole number ≥ " + std::to_string(min) + ", found " + n.Scalar());
+  if (v != std::floor(v) || v < static_cast<double>(min) || v > static_cast<double>(max))
+    r.fail(n, key,
+           "expected a whole number " +
+               (max < 9'000'000'000'000'000L ? "from " + std::to_string(min) + " to " + std::to_string(max)
+                                             : "≥ " + std::to_string(min)) +
+               ", found " + n.Scalar());
   return static_cast<long>(v);
 }
 
@@ -54,6 +60,13 @@ void parse_time(const YAML::Node& n, const YamlReader& r, StudySpec& st) {
   if (outputs > 10000000) r.fail(n["outputs"], key + ".outputs", "at most 10000000 outputs");
   for (long k = 0; k < outputs; ++k)
     st.output_times.push_back(k == outputs - 1 ? end : start + (end - start) * static_cast<double>(k) / static_cast<double>(outputs - 1));
+  // end − start can overflow, and a span tiny against |start| rounds outputs onto each other.
+  for (std::size_t i = 0; i < st.output_times.size(); ++i)
+    if (!std::isfinite(st.output_times[i]) || (i > 0 && !(st.output_times[i] > st.output_times[i - 1])))
+      r.fail(n, key,
+             "the " + std::to_string(outputs) + " output times from " + n["start"].as<std::string>("0") + " to " +
+                 n["end"].Scalar() + " are not " + (std::isfinite(st.output_times[i]) ? "distinct" : "finite") +
+                 " in double precision (output " + std::to_string(i) + "); use fewer outputs or a smaller start");
 }
 
 void parse_constraint_options(const YAML::Node& c, const YamlReader& r, const std::string& key, ConstraintOptions& co) {
@@ -78,7 +91,8 @@ void parse_constraint_options(const YAML::Node& c, const YamlReader& r, const st
     co.project_sensitivities = r.read_bool(c["project_sensitivities"], key + ".project_sensitivities");
 }
 
-void parse_solver(const YAML::Node& n, const YamlReader& r, sim::SolverOptions& o, ConstraintOptions& co) {
+void parse_solver(const YAML::Node& n, const YamlReader& r, sim::SolverOptions& o, ConstraintOptions& co,
+                  bool has_constraints, StudySpec& st) {
   using namespace kanesens::sim;
   const std::string key = "solver";
   r.check_keys(n, key, {"method", "iteration", "rtol", "atol", "max_steps", "max_order", "initial_step", "max_step",
@@ -91,6 +105,7 @@ void parse_solver(const YAML::Node& n, const YamlReader& r, sim::SolverOptions& 
                                            {{"newton", Iteration::newton}, {"functional", Iteration::functional}});
   if (n["rtol"]) o.rtol = read_setting(r, n["rtol"], key + ".rtol");
   if (n["atol"]) {
+    st.atol_where = r.location(n["atol"]);
     if (n["atol"].IsSequence()) {
       for (std::size_t i = 0; i < n["atol"].size(); ++i)
         o.atol_per_state.push_back(read_setting(r, n["atol"][i], key + ".atol[" + std::to_string(i) + "]"));
@@ -99,7 +114,7 @@ void parse_solver(const YAML::Node& n, const YamlReader& r, sim::SolverOptions& 
     }
   }
   if (n["max_steps"]) o.max_steps = read_whole_setting(r, n["max_steps"], key + ".max_steps", 1);
-  if (n["max_order"]) o.max_order = static_cast<int>(read_whole_setting(r, n["max_order"], key + ".max_order", 1));
+  if (n["max_order"]) o.max_order = static_cast<int>(read_whole_setting(r, n["max_order"], key + ".max_order", 1, 12));
   if (n["initial_step"]) o.initial_step = read_setting(r, n["initial_step"], key + ".initial_step");
   if (n["max_step"]) o.max_step = read_setting(r, n["max_step"], key + ".max_step");
   if (n["jacobian"])
@@ -120,8 +135,14 @@ void parse_solver(const YAML::Node& n, const YamlReader& r, sim::SolverOptions& 
     if (s["atol"]) o.sens_atol = read_setting(r, s["atol"], k2 + ".atol");
   }
   if (const YAML::Node c = n["constraints"]) parse_constraint_options(c, r, key + ".constraints", co);
-  if (co.stabilization == ConstraintOptions::Stabilization::projection && o.method == Method::adams && n["constraints"])
-    r.fail(n, key, "constraint projection needs method: bdf or dop853 (CVODES projects only with BDF); use stabilization: baumgarte with adams");
+  // Projection is the default stabilization, so a constrained scene with adams and no explicit
+  // solver.constraints would fail at its first step: refuse it here.
+  if (co.stabilization == ConstraintOptions::Stabilization::projection && o.method == Method::adams &&
+      (n["constraints"] || has_constraints))
+    r.fail(n["constraints"] ? n["constraints"] : n["method"], n["constraints"] ? key + ".constraints" : key + ".method",
+           std::string(n["constraints"] ? "" : "the scene has constraints and their default stabilization is projection; ") +
+               "constraint projection needs method: bdf or dop853 (CVODES projects only with BDF); with adams set "
+               "solver.constraints.stabilization: baumgarte (or none)");
   try {
     o.validate();
   } catch (const std::invalid_argument& e) {
@@ -134,7 +155,8 @@ constexpr std::pair<std::string_view, RecordItem> kRecordItems[] = {
     {"sensitivities", RecordItem::sensitivities},
     {"multipliers", RecordItem::multipliers},
     {"energy", RecordItem::energy},
-    {"constraint_residual", RecordItem::constraint_residual}};
+    {"constraint_residual", RecordItem::constraint_residual},
+    {"poses", RecordItem::poses}};
 
 void parse_record(const YAML::Node& n, const YamlReader& r, StudySpec& st) {
   st.record = {RecordItem::states, RecordItem::energy};
@@ -149,7 +171,7 @@ void parse_record(const YAML::Node& n, const YamlReader& r, StudySpec& st) {
     const std::string v = r.read_string(n[i], key);
     const auto* item = std::find_if(std::begin(kRecordItems), std::end(kRecordItems), [&](const auto& k) { return k.first == v; });
     if (item == std::end(kRecordItems))
-      r.fail(n[i], key, "unknown record item '" + v + "'; items are: states, sensitivities, multipliers, energy, constraint_residual");
+      r.fail(n[i], key, "unknown record item '" + v + "'; items are: states, sensitivities, multipliers, energy, constraint_residual, poses");
     st.record.insert(item->second);
   }
 }
@@ -202,7 +224,7 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
     else st.set_inputs[name] = parse_number(value, "--set " + name);
   }
   const YamlReader r(path);
-  r.check_keys(doc, "", {"kanesens", "scene", "time", "solver", "sampling", "vary", "sensitivities", "record"});
+  r.check_keys(doc, "", {"kanesens", "scene", "time", "solver", "sampling", "vary", "sensitivities", "record", "outputs"});
   const YAML::Node version = r.required(doc, "kanesens", "");
   if (!version.IsScalar() || version.Scalar() != "1") r.fail(version, "kanesens", "unsupported schema version; this kanesens reads version 1");
   const YAML::Node scene = r.required(doc, "scene", "");
@@ -219,15 +241,21 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
     st.scene = model::parse_scene_node(scene, path, st.text);
   }
   parse_time(r.required(doc, "time", ""), r, st);
-  if (doc["solver"]) parse_solver(doc["solver"], r, st.solver, st.constraints);
+  st.time_where = r.location(doc["time"]);
+  if (doc["solver"]) parse_solver(doc["solver"], r, st.solver, st.constraints, !st.scene.constraints.empty(), st);
   if (const YAML::Node s = doc["sensitivities"]; s && !s.IsNull()) {
     r.require_sequence(s, "sensitivities");
     for (std::size_t i = 0; i < s.size(); ++i) {
-      st.sensitivities.push_back(r.read_string(s[i], "sensitivities[" + std::to_string(i) + "]"));
+      const std::string key = "sensitivities[" + std::to_string(i) + "]";
+      const std::string name = r.read_string(s[i], key);
+      if (std::find(st.sensitivities.begin(), st.sensitivities.end(), name) != st.sensitivities.end())
+        r.fail(s[i], key, "'" + name + "' is listed twice");
+      st.sensitivities.push_back(name);
       st.sensitivity_where.push_back(r.location(s[i]));
     }
   }
   parse_record(doc["record"], r, st);
+  st.outputs = parse_outputs(doc["outputs"], r);
   if (const YAML::Node s = doc["sampling"]; s && !s.IsNull()) {
     st.sampling = parse_sampling(s, {path, 0, 0});
   } else {

@@ -3,6 +3,9 @@
 #include <map>
 
 #include "model/build_model.hpp"
+#include "sim/kane_problem.hpp"
+#include "util/did_you_mean.hpp"
+#include "study/build_outputs.hpp"
 
 namespace kanesens::study {
 namespace {
@@ -34,7 +37,7 @@ StudySetup setup_study(const std::string& path, const std::vector<std::string>& 
   model::Model model = model::build_model(spec.scene, overrides);
   sim::SampleInputs base(model);
   Design design(spec.sampling, spec.vary);
-  StudySetup s{set, std::move(spec), std::move(model), std::move(base), std::move(design), {}, {}, {}};
+  StudySetup s{set, std::move(spec), std::move(model), std::move(base), std::move(design), {}, {}, {}, {}};
   const StudySpec& st = s.spec;
   for (const auto& [name, v] : st.set_inputs)
     if (!overrides.count(name)) s.base.set(sim::resolve_input(s.model, name, "--set " + name), v);
@@ -50,13 +53,32 @@ StudySetup setup_study(const std::string& path, const std::vector<std::string>& 
   s.record.energy = st.record.count(RecordItem::energy) > 0;
   s.record.multipliers = st.record.count(RecordItem::multipliers) > 0 && constrained;
   s.record.constraint_residual = st.record.count(RecordItem::constraint_residual) > 0 && constrained;
+  s.record.poses = st.record.count(RecordItem::poses) > 0;
   if (st.record.count(RecordItem::sensitivities) && s.sensitivities.empty())
     throw InputError(st.record_where, "record", "'sensitivities' is recorded but the study lists no sensitivities");
+  if (!st.solver.atol_per_state.empty()) {
+    if (static_cast<int>(st.solver.atol_per_state.size()) != s.model.nstate())
+      throw InputError(st.atol_where, "solver.atol",
+                       "expected one entry per state (" + std::to_string(s.model.nstate()) + ": " +
+                           join_names(s.model.state_names) + "), found " + std::to_string(st.solver.atol_per_state.size()));
+    if (constrained && st.constraints.formulation == sim::ConstraintOptions::Formulation::embedding)
+      throw InputError(st.atol_where, "solver.atol",
+                       "a list of per-state tolerances is not supported with formulation: embedding (it integrates "
+                       "fewer states); give one number");
+  }
+  // The nominal sample at its initial state: a constraint that constrains nothing there, equations
+  // that are not finite or a mass matrix that is not positive definite are found now, not in
+  // every sample after a run's file exists.
+  sim::KaneProblem nominal(s.model, s.recorded_sensitivities(), st.constraints, st.output_times.front());
+  nominal.set_sample(s.base);
+  nominal.validate_initial_state();
+  s.outputs = std::make_shared<const sim::OutputPlan>(build_output_plan(st.outputs, s.model, st.output_times));
+  if (!s.outputs->empty()) s.record.outputs = s.outputs.get();
   return s;
 }
 
 std::vector<sim::InputRef> StudySetup::recorded_sensitivities() const {
-  return record.sensitivities ? sensitivities : std::vector<sim::InputRef>{};
+  return record.sensitivities || record.outputs ? sensitivities : std::vector<sim::InputRef>{};
 }
 
 sim::SampleInputs StudySetup::sample(std::int64_t i, std::span<double> values) const {

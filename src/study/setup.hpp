@@ -4,6 +4,7 @@
 // file:line:column and the key path, so a command fails before it computes or writes anything.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -26,11 +27,14 @@ struct StudySetup {
   Design design;
   std::vector<sim::InputRef> varied;         // one per design input (spec.vary), in order
   std::vector<sim::InputRef> sensitivities;  // the study's list, resolved
-  // What the study records (`record:`); multipliers and residuals only for constrained scenes,
-  // sensitivities only when the study lists some.
+  // The study's `outputs:`, resolved (empty plan: none). Shared: record.outputs points into it.
+  std::shared_ptr<const sim::OutputPlan> outputs;
+  // What the study records (`record:`, and the outputs); multipliers and residuals only for
+  // constrained scenes, sensitivities only when the study lists some.
   sim::RecordFlags record;
 
-  // The sensitivities to compute: the study's when they are recorded, else none.
+  // The sensitivities to compute: the study's when state sensitivities are recorded or the study
+  // has outputs (whose sensitivities are then recorded), else none.
   std::vector<sim::InputRef> recorded_sensitivities() const;
   // Run i's inputs: base with the design's values of the varied inputs (values: P entries).
   sim::SampleInputs sample(std::int64_t i, std::span<double> values) const;

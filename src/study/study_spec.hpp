@@ -12,13 +12,14 @@
 #include "model/scene/scene_spec.hpp"
 #include "sim/constraint_options.hpp"
 #include "sim/solve/solver_options.hpp"
+#include "study/output_spec.hpp"
 #include "study/sampling_spec.hpp"
 #include "study/varied_input.hpp"
 
 namespace kanesens::study {
 
 // What a study records per output time (the `record:` list).
-enum class RecordItem { states, sensitivities, multipliers, energy, constraint_residual };
+enum class RecordItem { states, sensitivities, multipliers, energy, constraint_residual, poses };
 std::string_view record_item_name(RecordItem item);
 
 struct StudySpec {
@@ -32,10 +33,13 @@ struct StudySpec {
   std::vector<SourceLocation> sensitivity_where;  // where each was written
   std::set<RecordItem> record;                    // default: states, energy (+ sensitivities)
   SourceLocation record_where;
+  std::vector<OutputSpec> outputs;                // `outputs:`, in file order
   // `sampling:`; without one, the nominal sample (mc, 1 run; where = the file).
   SamplingSpec sampling;
   std::vector<VariedInput> vary;        // `vary:`, in file order
   std::vector<SourceLocation> vary_where;  // where each varied input's name is written
+  SourceLocation time_where;  // the `time:` map (messages about the number of outputs)
+  SourceLocation atol_where;  // solver.atol, when given
   // Parameter and initial-condition values given with --set ("m2" → 0.9, "elbow.q0" → 0.3).
   std::map<std::string, double> set_inputs;
 };

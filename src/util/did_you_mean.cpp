@@ -24,10 +24,15 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 }
 
 std::string closest_match(std::string_view word, const std::vector<std::string>& candidates) {
+  // Bounded work whatever the input: no suggestion for absurdly long names, and candidates whose
+  // length alone puts them out of reach are skipped (the distance is at least the difference).
+  if (word.size() > kMaxSuggestedLength) return {};
   const std::size_t limit = std::max<std::size_t>(1, word.size() / 3);
   std::string best;
   std::size_t best_d = limit + 1;
   for (const auto& c : candidates) {
+    const std::size_t gap = c.size() > word.size() ? c.size() - word.size() : word.size() - c.size();
+    if (gap >= best_d || c.size() > kMaxSuggestedLength) continue;
     const std::size_t d = edit_distance(word, c);
     if (d < best_d) {
       best_d = d;

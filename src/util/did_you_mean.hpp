@@ -9,6 +9,8 @@ namespace kanesens {
 
 // Edit distance between a and b (insertions, deletions, substitutions, transpositions).
 std::size_t edit_distance(std::string_view a, std::string_view b);
+// Names longer than this get no suggestion (keeps the search linear in the input's size).
+inline constexpr std::size_t kMaxSuggestedLength = 256;
 // The closest candidate within a distance of max(1, |word|/3), or "" when none is close.
 std::string closest_match(std::string_view word, const std::vector<std::string>& candidates);
 // " (did you mean 'x'?)" or "" — ready to append to an error message.

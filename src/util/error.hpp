@@ -25,7 +25,19 @@ class InputError : public std::runtime_error {
   const std::string& key_path() const { return key_path_; }
   const std::string& detail() const { return detail_; }
 
-  static std::string format(const SourceLocation& w, const std::string& key, const std::string& what) {
+  // A message stays one readable line whatever it quotes (a name of 250 000 characters): each
+  // part is cut to this many bytes, between UTF-8 characters.
+  static constexpr std::size_t max_part_bytes = 600;
+  static std::string shorten(const std::string& text) {
+    if (text.size() <= max_part_bytes) return text;
+    std::size_t head = max_part_bytes / 2, tail = text.size() - max_part_bytes / 2;
+    while (head > 0 && (static_cast<unsigned char>(text[head]) & 0xC0) == 0x80) --head;
+    while (tail < text.size() && (static_cast<unsigned char>(text[tail]) & 0xC0) == 0x80) ++tail;
+    return text.substr(0, head) + " [... " + std::to_string(tail - head) + " bytes ...] " + text.substr(tail);
+  }
+
+  static std::string format(const SourceLocation& w, const std::string& key_in, const std::string& what_in) {
+    const std::string key = shorten(key_in), what = shorten(what_in);
     std::string s;
     if (!w.file.empty()) s += w.file;
     if (w.line > 0) {

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "util/input_text.hpp"
+
 namespace kanesens {
 
 class JsonWriter {
@@ -65,7 +67,10 @@ class JsonWriter {
       first_.back() = false;
     }
   }
-  void write_string(const std::string& s) {
+  void write_string(const std::string& raw) {
+    // JSON is UTF-8: a name is valid UTF-8 by the time it gets here (input files are checked),
+    // but a message may quote a command-line argument.
+    const std::string s = first_invalid_utf8(raw) == raw.size() ? raw : to_valid_utf8(raw);
     out_ << '"';
     for (char c : s) {
       switch (c) {

@@ -3,6 +3,8 @@
   check_ensemble.py same A.h5 B.h5        datasets bitwise equal (timings excepted)
   check_ensemble.py xarray A.h5           named dimensions, coordinates, attributes via xarray
   check_ensemble.py status A.h5 OK FAIL NOTRUN   counts of status 1, < 0 and 0
+  check_ensemble.py stat-at-least A.h5 NAME MIN  every sample's /solver_stats/NAME >= MIN
+  check_ensemble.py initial-residual A.h5 MAX    every sample's position residual at t0 <= MAX
 """
 import sys
 
@@ -60,6 +62,15 @@ def check_xarray(path):
     assert "steps" in st and st["steps"].dims == ("sample",)
     out = xr.open_dataset(path, engine="h5netcdf", group="outputs")
     assert out["energy"].dims == ("sample", "time")
+    # The study's outputs: series (sample, time), scalars (sample), and their sensitivities.
+    assert out["tip.y"].dims == ("sample", "time") and out["work"].dims == ("sample",)
+    assert np.array_equal(out["tip_y_end"].values, out["tip.y"].isel(time=-1).values)
+    sens = xr.open_dataset(path, engine="h5netcdf", group="output_sensitivities")
+    assert sens["tip.y"].dims == ("sample", "time", "sensitivity"), sens["tip.y"].dims
+    assert sens["work"].dims == ("sample", "sensitivity")
+    assert np.all(np.isfinite(sens["work"].values))
+    assert ds["poses"].dims == ("sample", "time", "body", "pose"), ds["poses"].dims
+    assert list(ds["body"].values) == ["rod1", "rod2"] and list(ds["pose"].values) == ["x", "y", "z", "qw", "qx", "qy", "qz"]
     print(f"xarray: {path} ok, dims {dict(ds.sizes)}")
 
 
@@ -74,6 +85,20 @@ def status(path, ok, fail, notrun):
     print(f"status: {path} ok={counts[0]} failed={counts[1]} not_run={counts[2]}")
 
 
+def stat_at_least(path, name, least):
+    with h5py.File(path, "r") as f:
+        v = f["solver_stats/" + name][()]
+    assert np.all(v >= float(least)), f"{name}: {v}"
+    print(f"stat: {path} {name} from {v.min():g} to {v.max():g}")
+
+
+def initial_residual(path, most):
+    with h5py.File(path, "r") as f:
+        r = f["outputs/position_residual"][:, 0]
+    assert np.all(r <= float(most)), r
+    print(f"initial position residual: {path} at most {r.max():.1e}")
+
+
 if __name__ == "__main__":
     cmd = sys.argv[1]
     if cmd == "same":
@@ -82,5 +107,9 @@ if __name__ == "__main__":
         check_xarray(sys.argv[2])
     elif cmd == "status":
         status(*sys.argv[2:6])
+    elif cmd == "stat-at-least":
+        stat_at_least(*sys.argv[2:5])
+    elif cmd == "initial-residual":
+        initial_residual(*sys.argv[2:4])
     else:
         raise SystemExit(f"unknown check {cmd}")

@@ -71,7 +71,11 @@ void write_demo_sample(kanesens::io::RunFile& file, const kanesens::io::RunLayou
                      .multipliers = multipliers,
                      .sensitivities = sens,
                      .outputs = outputs,
-                     .stats = stats});
+                     .stats = stats,
+                     .scalar_outputs = {},
+                     .output_sensitivities = {},
+                     .scalar_output_sensitivities = {},
+                     .poses = {}});
 }
 
 int run(int argc, char** argv) {

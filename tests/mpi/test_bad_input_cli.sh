@@ -84,5 +84,116 @@ expect_bad run-resume-other-study "--resume: cannot resume 'done.h5': .*another 
 echo "not hdf5" > text.h5
 expect_bad run-resume-not-hdf5 "--resume: HDF5 call H5Fopen(text.h5) failed" - mpirun_run study.yaml -o text.h5 --resume
 
+# ---- Command-line values: a usage error is bad input too (one line, exit 2, on rank 0 only) -----
+expect_bad eom-t-nan "--t: expected a finite number, found 'nan'" - "$KANESENS" eom "$configs/double_pendulum.yaml" --q=0,0 --u=0,0 --t nan
+expect_bad eom-t-inf "--t: expected a finite number, found 'inf'" - "$KANESENS" eom "$configs/double_pendulum.yaml" --q=0,0 --u=0,0 --t inf
+expect_bad eom-t-not-a-number "--t: expected a finite number, found 'x'" - "$KANESENS" eom "$configs/double_pendulum.yaml" --q=0,0 --u=0,0 --t x
+expect_bad check-unknown-option "The following argument was not expected: --frobnicate" - "$KANESENS" check study.yaml --frobnicate
+expect_bad run-chunk-overflow "--chunk: expected a whole number from 1 to" out7.h5 mpirun_run study.yaml -o out7.h5 --chunk 9223372036854775807
+expect_bad run-chunk-zero "--chunk: expected a whole number from 1 to" out7.h5 mpirun_run study.yaml -o out7.h5 --chunk 0
+expect_bad run-samples-negative "--samples: expected a whole number ≥ 1, found '-5'" out7.h5 mpirun_run study.yaml -o out7.h5 --samples -5
+expect_bad run-missing-study "study is required" - mpirun_run -o out7.h5
+sed 's/^time:.*/time: {end: 0.2, outputs: 5}\nsolver: {max_order: 4294967297}/' study.yaml > max_order.yaml
+expect_bad run-max-order-overflow "max_order.yaml:[0-9]*:[0-9]*: solver.max_order: expected a whole number from 1 to 12, found 4294967297" out7.h5 mpirun_run max_order.yaml -o out7.h5
+
+# ---- Input files are bounded text -----------------------------------------------------------
+expect_bad check-dev-zero "/dev/zero: file is larger than 16 MiB" - "$KANESENS" check /dev/zero
+sed "s|^scene: .*|scene: /dev/zero|" study.yaml > devzero_study.yaml
+expect_bad run-scene-dev-zero "/dev/zero: file is larger than 16 MiB" out7.h5 mpirun_run devzero_study.yaml -o out7.h5
+expect_bad check-directory "adir: is a directory" - "$KANESENS" check adir
+printf 'kanesens: 1\nscene:\n  name: "ab\xff"\n' > bad_utf8.yaml
+expect_bad check-invalid-utf8 "bad_utf8.yaml:3:[0-9]*: invalid UTF-8 (byte 0xFF)" - "$KANESENS" check bad_utf8.yaml
+printf 'kanesens: 1\nscene:\n  name: "a\x01b"\n' > control.yaml
+expect_bad check-control-character "control.yaml:3:[0-9]*: control character 0x01" - "$KANESENS" check control.yaml
+"$KANESENS_PYTHON" -c "import sys; sys.stdout.write(open('study.yaml').read().replace('sensitivities: [m2]', 'sensitivities: [' + 'm' * 250000 + ']'))" > long_name.yaml
+expect_bad run-unknown-name-250000-chars "long_name.yaml:7:[0-9]*: sensitivities\[0\]: 'mmmm* \[... [0-9]* bytes ...\] mmmm*' is neither a parameter" out7.h5 mpirun_run long_name.yaml -o out7.h5
+
+# ---- Memory: one sample's results must fit in every rank (KANESENS_FAULT_MEMORY_AVAILABLE
+# stands in for a small node) --------------------------------------------------------------
+expect_bad run-memory "study.yaml:3:[0-9]*: time: one sample's results .* need about .* of memory per rank (2 ranks on this node" out7.h5 env KANESENS_FAULT_MEMORY_AVAILABLE=10000 mpirun --allow-run-as-root --oversubscribe -np 2 "$KANESENS" run study.yaml -o out7.h5
+expect_bad simulate-memory "study.yaml:3:[0-9]*: time: the trajectory (5 times x 4 states x (1 + 1 sensitivities)) needs about" - env KANESENS_FAULT_MEMORY_AVAILABLE=100 "$KANESENS" simulate study.yaml
+
+# ---- The output path is never followed or clobbered -------------------------------------------
+echo precious > precious.txt
+cp precious.txt precious.orig
+ln -s precious.txt link.h5.partial
+expect_bad run-partial-is-symlink "-o: 'link.h5.partial' exists" - mpirun_run study.yaml -o link.h5
+cmp -s precious.txt precious.orig || { echo "FAIL: precious.txt changed through link.h5.partial"; failures=$((failures + 1)); }
+# With --overwrite the stale link is removed (never written through) and the run succeeds.
+if mpirun_run study.yaml -o link.h5 --overwrite >/dev/null 2>&1 && [[ -f link.h5 && ! -L link.h5.partial ]] \
+   && cmp -s precious.txt precious.orig; then echo "ok   run-partial-symlink-overwrite: target byte-identical"
+else echo "FAIL run-partial-symlink-overwrite"; failures=$((failures + 1)); fi
+cases=$((cases + 1))
+ln -s precious.txt outlink.h5
+expect_bad run-output-is-symlink "-o: output file 'outlink.h5' already exists" - mpirun_run study.yaml -o outlink.h5
+cmp -s precious.txt precious.orig || { echo "FAIL: precious.txt changed through outlink.h5"; failures=$((failures + 1)); }
+echo "my own notes" > mine.h5.partial
+expect_bad run-partial-exists "-o: 'mine.h5.partial' exists" - mpirun_run study.yaml -o mine.h5
+[[ $(cat mine.h5.partial) == "my own notes" ]] || { echo "FAIL: mine.h5.partial was modified"; failures=$((failures + 1)); }
+mkdir dir.h5.partial
+expect_bad run-partial-is-directory "-o: 'dir.h5.partial' (the name the output is built under) is a directory" - mpirun_run study.yaml -o dir.h5 --overwrite
+[[ -d dir.h5.partial && ! -e dir.h5 ]] || { echo "FAIL: dir.h5.partial"; failures=$((failures + 1)); }
+
+# ---- A run file given to --resume is input: hostile edits of a real one are refused, the file
+# is left byte-identical -----------------------------------------------------------------------
+edit_run_file() {  # edit_run_file FILE PYTHON-STATEMENTS (h5py File as f)
+  "$KANESENS_PYTHON" -c "import h5py, numpy as np
+with h5py.File('$1', 'r+') as f:
+    $2"
+}
+cp done.h5 long_status.h5
+edit_run_file long_status.h5 "del f['status']; f['status'] = np.zeros(9, dtype='i4')"
+cp done.h5 states_shape.h5
+edit_run_file states_shape.h5 "del f['states']; f['states'] = np.zeros((6, 5, 3))"
+cp done.h5 no_hash.h5
+edit_run_file no_hash.h5 "del f.attrs['study_hash']"
+cp done.h5 status_link.h5
+edit_run_file status_link.h5 "del f['status']; f['status'] = h5py.SoftLink('/sample')"
+for bad in "long_status:dataset /status has shape (9), this study writes (6)" \
+           "states_shape:dataset /states has shape (6, 5, 3), this study writes (6, 5, 4)" \
+           "no_hash:it has no study_hash attribute" \
+           "status_link:/status is a soft or external link"; do
+  name=${bad%%:*} says=${bad#*:}
+  before=$(md5sum < "$name.h5")
+  expect_bad "run-resume-$name" "--resume: cannot resume '$name.h5': $says" - mpirun_run study.yaml -o "$name.h5" --resume
+  [[ "$before" == "$(md5sum < "$name.h5")" ]] || { echo "FAIL: $name.h5 was modified"; failures=$((failures + 1)); }
+done
+
+# ---- Found at validation, before any file, once (rank 0), instead of in every sample --------------
+cat > degenerate.yaml <<'YAML'
+kanesens: 1
+scene:
+  name: p
+  bodies: [{name: b, mass: 1, inertia: {shape: point}}]
+  joints: [{name: j, type: prismatic, parent: ground, child: b, axis: [1, 0, 0]}]
+  constraints: [{name: g, type: general, position: "j.q^2"}]
+time: {end: 1, outputs: 3}
+sampling: {method: mc, samples: 4, seed: 1}
+YAML
+head -6 degenerate.yaml > degenerate_scene.yaml
+expect_bad check-degenerate-constraint "degenerate_scene.yaml:6:17: scene.constraints\[0\]: constraint 'g' constrains nothing at the initial state" - "$KANESENS" check degenerate_scene.yaml
+expect_bad simulate-degenerate-constraint "degenerate.yaml:6:17: scene.constraints\[0\]: constraint 'g' constrains nothing at the initial state" - "$KANESENS" simulate degenerate.yaml
+expect_bad run-degenerate-constraint "degenerate.yaml:6:17: scene.constraints\[0\]: constraint 'g' constrains nothing" out8.h5 mpirun_run degenerate.yaml -o out8.h5
+expect_bad run1-degenerate-constraint "degenerate.yaml:6:17: scene.constraints\[0\]: constraint 'g' constrains nothing" out8.h5 "$KANESENS" run degenerate.yaml -o out8.h5
+sed 's/^time:.*/time: {end: 0.2, outputs: 5}\nsolver: {atol: [1e-8, 1e-8]}/' study.yaml > short_atol.yaml
+expect_bad run-short-atol "short_atol.yaml:4:[0-9]*: solver.atol: expected one entry per state (4: shoulder.q, elbow.q, shoulder.u, elbow.u), found 2" out8.h5 mpirun_run short_atol.yaml -o out8.h5
+sed 's/^sensitivities: \[m2\]/sensitivities: [m2, L1, m2]/' study.yaml > sens_twice.yaml
+expect_bad run-sensitivity-twice "sens_twice.yaml:7:[0-9]*: sensitivities\[2\]: 'm2' is listed twice" out8.h5 mpirun_run sens_twice.yaml -o out8.h5
+expect_bad simulate-sens-twice "--sens: 'm2' is listed twice" - "$KANESENS" simulate study.yaml --sens m2,m2
+printf 'kanesens: 1\nscene: %s\ntime: {end: 1}\nsolver: {method: adams}\n' "$configs/four_bar.yaml" > adams.yaml
+expect_bad simulate-adams-constrained "adams.yaml:4:18: solver.method: the scene has constraints and their default stabilization is projection" - "$KANESENS" simulate adams.yaml
+expect_bad run-adams-constrained "adams.yaml:4:18: solver.method: the scene has constraints" out8.h5 mpirun_run adams.yaml -o out8.h5
+sed 's/^time:.*/time: {start: 1e16, end: 1.000000000000002e16, outputs: 101}/' study.yaml > repeated_times.yaml
+expect_bad run-repeated-times "repeated_times.yaml:3:7: time: the 101 output times .* are not distinct" out8.h5 mpirun_run repeated_times.yaml -o out8.h5
+sed 's/mass: m1,/mass: 1e308,/; s/child_point: \[0, "L1\/2", 0\]/child_point: [0, 1e10, 0]/' "$configs/double_pendulum.yaml" > huge_scene.yaml
+printf 'kanesens: 1\nscene: huge_scene.yaml\ntime: {end: 1}\n' > huge.yaml
+expect_bad run-absurd-mass "huge_scene.yaml:[0-9]*:3: scene: at the initial state (t = 0) .* out of range" out8.h5 mpirun_run huge.yaml -o out8.h5
+printf 'kanesens: 1\nscene:\n  name: w\n  bodies: [{name: b, mass: 1, inertia: {shape: point}}]\n  joints: [{name: j, type: weld, parent: ground, child: b}]\n' > welded.yaml
+expect_bad check-no-degrees-of-freedom "welded.yaml:3:3: scene.joints: the scene has no degrees of freedom" - "$KANESENS" check welded.yaml
+printf 'kanesens: 1\nscene:\n  name: u\n  bodies: [{name: b, mass: 1, inertia: {xx: 1, yy: 1, zz: 1}}]\n  joints: [{name: j, type: universal, parent: ground, child: b, axes: [[1, 0, 0], [2, 0, 0]]}]\n' > universal.yaml
+expect_bad check-universal-parallel-axes "universal.yaml:5:[0-9]*: scene.joints\[0\].axes\[1\]: joint 'j': its two axes are parallel" - "$KANESENS" check universal.yaml
+printf 'kanesens: 1\nscene:\n  name: c\n  bodies: [{name: b, mass: 1, inertia: {shape: point}}]\n  joints: [{name: j, type: prismatic, parent: ground, child: b, axis: [1, 0, 0]}]\n  constraints: [{type: coincident, body_a: b, body_b: ground, components: [x, y, z, x]}]\n' > components.yaml
+expect_bad check-components-repeated "components.yaml:6:[0-9]*: scene.constraints\[0\].components: component 'x' is given twice" - "$KANESENS" check components.yaml
+
 echo "test_bad_input_cli: $cases bad command lines, $failures failed"
 [[ $failures -eq 0 ]]

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runtime faults never lose computed samples:
 #  1. per-sample faults are recorded and the run goes on: a lognormal draw that overflows to inf
-#     (status -100), a singular mass matrix (CVODES CV_RHSFUNC_FAIL), a force that blows up
+#     (status -100), a singular mass matrix (CVODES CV_FIRST_RHSFUNC_ERR), a force that blows up
 #     (error-test failures, CV_TOO_MUCH_WORK; every sample fails: exit 5);
 #  2. SIGTERM to mpirun (2 ranks) and SIGINT to a lone kanesens: the ranks stop claiming samples,
 #     finish the ones in flight, close the file and say how to --resume (kanesens exits 130/143);
@@ -59,7 +59,29 @@ py singular.h5 <<'PY'
 import sys, h5py
 with h5py.File(sys.argv[1], "r") as f:
     s, m = f["status"][()], f["message"][()]
-    assert s[1] == -8 and b"CV_RHSFUNC_FAIL" in m[1] and b"mass matrix" in m[1], (s, m)
+    # Recoverable (+1) at every trial state, so CVODES gives up at the first call.
+    assert s[1] == -9 and b"CV_FIRST_RHSFUNC_ERR" in m[1] and b"mass matrix is not positive definite" in m[1], (s, m)
+PY
+# A sampled initial value where the constraint constrains nothing (d(q^2 - 1)/dq = 0 at q0 = 0):
+# that sample fails with status -100 naming the constraint; the others run.
+cat > degenerate.yaml <<'YAML'
+kanesens: 1
+scene:
+  name: degenerate
+  bodies: [{name: b, mass: 1, inertia: {shape: point}}]
+  joints: [{name: j, type: prismatic, parent: ground, child: b, axis: [1, 0, 0], q0: 1}]
+  constraints: [{name: g, type: general, position: "j.q^2 - 1"}]
+time: {end: 1, outputs: 3}
+sampling: {method: grid, levels: 3}
+vary:
+  j.q0: {dist: uniform, low: -1.5, high: 1.5}
+YAML
+run degenerate.yaml -o degenerate.h5 >/dev/null
+py degenerate.h5 <<'PY'
+import sys, h5py
+with h5py.File(sys.argv[1], "r") as f:
+    s, m = f["status"][()], f["message"][()]
+    assert list(s) == [1, -100, 1] and b"constraint 'g' constrains nothing" in m[1], (s, m)
 PY
 # F/(t - 0.5)^2: CVODES's error test fails again and again near t = 0.5; every sample fails.
 sed 's/m: {dist: lognormal, mu: 705, sigma: 10}/F: {dist: uniform, low: 0.5, high: 2}/' faults.yaml > blowup.yaml

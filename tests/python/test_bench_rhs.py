@@ -2,9 +2,20 @@
 constrained right-hand sides at a state that satisfies the constraints (the state peers are
 compared at, docs/peers.md), which must be the one `kanesens eom` finds consistent."""
 import json
+import os
 import subprocess
+from pathlib import Path
 
-from workprecision_support import ROOT, exe
+import pytest
+
+ROOT = Path(os.environ.get("KANESENS_SOURCE_DIR") or Path(__file__).resolve().parents[2])
+
+
+def exe() -> str:
+    path = os.environ.get("KANESENS")
+    if not path:
+        pytest.skip("KANESENS is not set (path of the kanesens executable); ctest sets it")
+    return path
 
 FAST = ["--repeat", "3", "--batch-seconds", "1e-4", "--json"]
 

@@ -76,6 +76,19 @@ def test_bicycle_table2_at_integer_speeds():
         assert np.max(np.abs(np.array(got) - [w_re, w_im, capsize, castering])) <= 1e-12, (v, got)
 
 
+def test_wheels_off_the_ground_are_brought_onto_it():
+    # The rear frame given 0.2 m too high: the contacts' heights are corrected first (the rear
+    # frame's height), and the linearization is the one about the consistent state.
+    ref = json.loads(kanesens("linearize", BICYCLE, "--json").stdout)
+    p = kanesens("linearize", BICYCLE, "--q=0,0,0.5,1,0,0,0,0,0,0", "--json")
+    assert p.returncode == 0, p.stderr
+    out = json.loads(p.stdout)
+    assert abs(out["initial_correction"]["position"] - 0.2) < 1e-12
+    assert out["constraint_residuals"]["position"] < 1e-12
+    assert abs(out["q"][2] - 0.3) < 1e-12  # wheel centre at the radius rR
+    assert np.max(np.abs(np.array(out["A"]) - np.array(ref["A"]))) <= 1e-12 * np.max(np.abs(ref["A"]))
+
+
 def test_not_steady_state_warns():
     p = kanesens("linearize", str(SOURCE / "configs" / "double_pendulum.yaml"), "--json")
     assert p.returncode == 0, p.stderr
@@ -88,7 +101,7 @@ def test_not_steady_state_warns():
     (["--inputs", "lam"], None),  # a parameter given by an expression is still a parameter
     (["--coordinates", "steer.q"], "--coordinates: 'base.rx' is independent and not ignorable"),
     (["--speeds", "base.wq"], "--speeds: unknown name 'base.wq'"),
-    (["--q=0,0,0.5,1,0,0,0,0,0,0"], "does not satisfy the constraints"),
+    (["--q=0,0,50,1,0,0,0,0,0,0"], "cannot satisfy the position constraints"),
     (["--q=1,2"], "--q: expected 10 values"),
     (["--set", "mB=-1"], "mass"),
 ])

@@ -75,10 +75,13 @@ def test_text_output(run_file):
 
 @pytest.mark.parametrize("args, message", [
     (["sobol", "--output", "elbow.q", "--at", "1"], "no state or output named 'elbow.q'"),
-    (["sobol", "--output", "pivot.q"], "exactly one of --at T and --over-time"),
+    (["summary", "--output", "enrgy"], "no state or output named 'enrgy' (did you mean 'energy'?)"),
+    (["plot", "--output", "pivot"], "name one of its components: pivot.q, pivot.u"),
+    (["sobol", "--output", "pivot.q"], "'pivot.q' is a series over time: give --at T"),
+    (["sobol", "--output", "pivot.q", "--at", "1", "--over-time"], "either --at T or --over-time"),
     (["morris", "--output", "pivot.q", "--at", "1"], "needs a Morris design"),
-    (["dgsm", "--output", "energy", "--at", "1"], "sensitivities are recorded for states only"),
-    (["dgsm", "--output", "pivot.q"], "needs --at"),
+    (["dgsm", "--output", "energy", "--at", "1"], "no sensitivities of output 'energy'"),
+    (["dgsm", "--output", "pivot.q"], "'pivot.q' is a series over time: give --at T"),
     (["linear-uq", "--output", "pivot.q", "--at", "99"], "covers t = 0.0 .. 10.0"),
 ])
 def test_errors_are_one_line(run_file, capsys, args, message):

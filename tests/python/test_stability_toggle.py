@@ -3,9 +3,9 @@
 about three times in 3 s and passes through the collinear toggle positions, where the loop
 constraint's matrix A loses rank (the parallelogram/anti-parallelogram bifurcation). Pinned:
 with multipliers, the pivoted Cholesky of A M^-1 A^T keeps lambda bounded (no blow-up) and the
-mechanism stays a parallelogram (rocker angle = crank angle); with embedding, the dependent
-speeds chosen at t0 stay usable between the sampled steps (or the run would fail with a message
-saying so) and the two formulations agree."""
+mechanism stays a parallelogram (rocker angle = crank angle); with embedding, every partition
+degrades at the toggle for an instant only (the integrator steps over it; a re-choice would not
+help and is not taken) and the two formulations agree."""
 import json
 import os
 import subprocess

@@ -383,7 +383,11 @@ EndState integrate_to_end(const ks::Model& m, ks::ConstraintOptions::Stabilizati
 }
 
 // Tolerances against the recomputed reference (the integration error at this rtol, from a
-// convergence study; about 3–5× the measured error), which are also the "own error" added to
+// convergence study; about 3× the largest error measured when the Jacobian's entries are
+// perturbed in their last bits, relative 1e-16 to 1e-14: one run's error at a given rtol moves by
+// up to ~1.5× (BDF, rtol 1e-10) and ~25× (Adams, rtol 1e-12) with the rounding of the Jacobian
+// alone, so a tolerance tuned to one run fails on any change of operation order), which are also
+// the "own error" added to
 // the published-reference thresholds: positions max(1e-8|q|, 1e-10), velocities 1e-7
 // relative, q̈ and λ 1e-5 relative.
 struct Tol {
@@ -435,7 +439,7 @@ using ks::Method;
 
 TEST(Andrews, EndTimeBdfProjectionRtol1e10) {
   const EndState e = integrate_to_end(andrews_model(), Stab::projection, Method::bdf, 1e-10, 1e-12);
-  compare_end("BDF, projection, rtol 1e-10", e, read_reference(), {1e-6, 3e-5, 1e-5});
+  compare_end("BDF, projection, rtol 1e-10", e, read_reference(), {1e-6, 3e-5, 3e-5});
   EXPECT_LT(e.g_end, 1e-12);
   EXPECT_LT(e.gdot_end, 1e-8);
   EXPECT_LT(e.energy_balance, 3e-7);
@@ -443,7 +447,7 @@ TEST(Andrews, EndTimeBdfProjectionRtol1e10) {
 
 TEST(Andrews, EndTimeBdfNoStabilizationRtol1e10) {
   const EndState e = integrate_to_end(andrews_model(), Stab::none, Method::bdf, 1e-10, 1e-12);
-  compare_end("BDF, no stabilization, rtol 1e-10", e, read_reference(), {1e-6, 3e-5, 1e-5});
+  compare_end("BDF, no stabilization, rtol 1e-10", e, read_reference(), {1e-6, 3e-5, 3e-5});
   EXPECT_LT(e.g_end, 1e-8);
   EXPECT_LT(e.energy_balance, 3e-7);
 }
@@ -458,6 +462,6 @@ TEST(Andrews, EndTimeBdfProjectionRtol1e13) {
 
 TEST(Andrews, EndTimeAdamsNoStabilizationRtol1e12) {
   const EndState e = integrate_to_end(andrews_model(), Stab::none, Method::adams, 1e-12, 1e-14);
-  compare_end("Adams, no stabilization, rtol 1e-12", e, read_reference(), {1e-10, 5e-9, 5e-9});
+  compare_end("Adams, no stabilization, rtol 1e-12", e, read_reference(), {2e-9, 3e-8, 5e-8});
   EXPECT_LT(e.energy_balance, 2e-10);
 }

@@ -134,8 +134,9 @@ TEST(ConstraintSensitivities, StabilizationsAgainstFiniteDifferences) {
     for (std::size_t i = 1; i < m.err.size(); ++i)
       EXPECT_LT(m.err[i], row.limit) << kNames[i] << " " << stab_name(row.stab) << " rtol " << row.rtol;
     // ∂y/∂m is exactly 0 (the motion does not depend on m): the figure is the FD noise, the
-    // same at both tolerances.
-    EXPECT_LT(m.err[0], 2e-7);
+    // same at both tolerances, and it moves with the last bits of the RHS (3.7e-8 and 2.5e-7
+    // measured for two roundings of the same equations; 7e-9 with a 4x larger step).
+    EXPECT_LT(m.err[0], 1e-6);
     if (row.stab == Stab::projection && !row.proj) {
       // Pins the CVODES behaviour: the integrated sensitivities are off the tangent space.
       EXPECT_GT(std::max(m.tangent_pos, m.tangent_vel), 1e-9);

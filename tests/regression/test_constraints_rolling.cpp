@@ -171,7 +171,10 @@ TEST(RollingDisc, InclineFrictionIsOneThirdWeightSine) {
   const Eigen::Vector3d n(sa, 0, ca), d(ca, 0, -sa), e_y(0, 1, 0);
   double worst_f = 0, worst_n = 0, worst_s = 0, worst_lat = 0;
   for (int k = 0; k < static_cast<int>(times.size()); ++k) {
-    const Eigen::Vector3d lam(r.lambda(k, 0), r.lambda(k, 1), r.lambda(k, 2));
+    // λ is in the plane's basis (t1, t2, n); t1 is world x projected onto the plane.
+    Eigen::Vector3d t1, t2;
+    ks::rolling_plane_basis<double>(n, t1, t2);
+    const Eigen::Vector3d lam = r.lambda(k, 0) * t1 + r.lambda(k, 1) * t2 + r.lambda(k, 2) * n;
     worst_f = std::max(worst_f, std::abs(lam.dot(d) + kG * sa / 3) / (kG * sa / 3));
     worst_n = std::max(worst_n, std::abs(lam.dot(n) - kG * ca) / (kG * ca));
     worst_lat = std::max(worst_lat, std::abs(lam.dot(e_y)));

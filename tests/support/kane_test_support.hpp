@@ -50,7 +50,7 @@ inline Eigen::Vector3d unskew3(const Eigen::Matrix3d& W) {
   return {0.5 * (W(2, 1) - W(1, 2)), 0.5 * (W(0, 2) - W(2, 0)), 0.5 * (W(1, 0) - W(0, 1))};
 }
 
-// Kinematic differential equations written independently of src/kane: q̇ = u for every joint
+// Kinematic differential equations written independently of src/dynamics: q̇ = u for every joint
 // coordinate except quaternions, where q̇ = ½ q ⊗ (0, ω) (ω in child components).
 inline std::vector<double> qdot_of(const Model& m, const double* q, const double* u) {
   std::vector<double> qd(m.nq);

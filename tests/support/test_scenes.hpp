@@ -2,7 +2,7 @@
 // chain_scene: the benchmark chain — a planar N-link chain of uniform rods (mass 1, length 1),
 // revolute about z, gravity −y, hanging along −y at q = 0. Each rod has a tiny inertia about its
 // own axis (1e-4) so that MuJoCo, which rejects a zero principal inertia, models the same bodies
-// (apps/peers/mujoco_chain_bench.cpp). `tilt` > 0 tips the last joint's axis out of the plane by
+// (bench/peers/mujoco_chain_bench.cpp). `tilt` > 0 tips the last joint's axis out of the plane by
 // that angle (rad), which makes the scene 3-D.
 #pragma once
 #include <cmath>

@@ -13,6 +13,7 @@
 #include "model/build_model.hpp"
 #include "parallel/ensemble.hpp"
 #include "model/scene/parse_scene.hpp"
+#include "sim/kane_problem.hpp"
 #include "../support/layers.hpp"
 
 using namespace kanesens::testing;
@@ -78,9 +79,11 @@ std::filesystem::path temp_dir() {
 std::string error_of(const Case& c) {
   try {
     switch (c.kind) {
-      case Kind::scene:
-        build_model(parse_scene_text(c.text, "s.yaml"));
+      case Kind::scene: {  // what `kanesens check` does
+        const Model m = build_model(parse_scene_text(c.text, "s.yaml"));
+        KaneProblem(m, {}).validate_initial_state();
         break;
+      }
       case Kind::study: {
         const auto path = temp_dir() / (std::string(c.name) + ".yaml");
         std::ofstream(path) << c.text;
@@ -109,10 +112,62 @@ std::string error_of(const Case& c) {
   return "(no error)";
 }
 
+// A scene row with one constraint added to kScene (line 12) and, with `weld`, a welded body w.
+std::string with_constraint(const std::string& constraint, bool weld = false) {
+  std::string s = kScene;
+  if (weld) {
+    s = edit(s, "  joints:\n", "    - {name: w, mass: 1, inertia: {shape: point}}\n  joints:\n");
+    s += "    - {name: jw, type: weld, parent: ground, child: w, parent_point: [0, 2, 0]}\n";
+  }
+  return s + "  constraints:\n    - " + constraint + "\n";
+}
+
+// A spherical pendulum (quaternion coordinates), for rows about them.
+const std::string kBall = R"(kanesens: 1
+scene:
+  name: ball
+  gravity: [0, -9.81, 0]
+  bodies:
+    - {name: b, mass: 1, inertia: {xx: 1, yy: 1, zz: 1}}
+  joints:
+    - {name: j, type: spherical, parent: ground, child: b, child_point: [0, 1, 0]}
+)";
+
 // Scene rows.
 std::vector<Case> scene_cases() {
   const std::string s = kScene;
   return {
+      // Constraints that constrain nothing, or not finitely, at the initial state: named before
+      // the consistent initial conditions (which decomposed an empty matrix: a segfault).
+      {"CoincidentOnWeldedBody", Kind::scene, with_constraint("{name: fix, type: coincident, body_a: w, body_b: ground, point_b: [0, 2, 0]}", true), {"s.yaml:15:7", "scene.constraints[0]", "constraint 'fix' constrains nothing at the initial state"}},
+      {"CoincidentZInPlanarScene", Kind::scene, with_constraint("{name: up, type: coincident, body_a: b, body_b: ground, components: [z]}"), {"s.yaml:13:7", "constraint 'up' constrains nothing"}},
+      {"GeneralPositionZeroGradient", Kind::scene, with_constraint("{name: g, type: general, position: \"j1.q^2\"}"), {"s.yaml:13:7", "constraint 'g' constrains nothing"}},
+      {"DistanceBetweenCoincidentPoints", Kind::scene, with_constraint("{name: rod, type: distance, body_a: a, body_b: ground, length: 1}"), {"s.yaml:13:7", "constraint 'rod' is not finite at the initial state", "row 'rod'"}},
+      {"DistanceZeroLength", Kind::scene, with_constraint("{name: rod, type: distance, body_a: b, body_b: ground, length: 0}"), {"s.yaml:13:", "scene.constraints[0].length", "length must be > 0"}},
+      {"CouplerWithItself", Kind::scene, with_constraint("{name: gear, type: coupler, joint_a: j1, joint_b: j1}"), {"s.yaml:13:7", "scene.constraints[0].joint_b", "two different joints"}},
+      {"RollingZeroNormal", Kind::scene, with_constraint("{name: r, type: rolling, body: b, radius: 0.1, axis: [0, 0, 1], normal: [0, 0, 0]}"), {"s.yaml:13:", "scene.constraints[0].normal", "normal has zero length"}},
+      {"RollingZeroRadius", Kind::scene, with_constraint("{name: r, type: rolling, body: b, radius: \"L - 1\", axis: [0, 0, 1]}"), {"s.yaml:13:", "scene.constraints[0].radius", "radius must be > 0"}},
+      {"GeneralPositionOfNoCoordinate", Kind::scene, with_constraint("{name: g, type: general, position: \"L - 1 + t\"}"), {"s.yaml:13:", "scene.constraints[0].position", "does not depend on any coordinate"}},
+      {"GeneralPositionOfQuaternion", Kind::scene, kBall + "  constraints:\n    - {name: g, type: general, position: \"j.qx - 0.1\"}\n", {"s.yaml:10:", "scene.constraints[0].position", "'j.qx' is a quaternion component"}},
+      // Lists and names that become indices and sizes.
+      {"ComponentsEmpty", Kind::scene, with_constraint("{name: pin, type: coincident, body_a: b, body_b: ground, components: []}"), {"s.yaml:13:", "scene.constraints[0].components", "empty list"}},
+      {"ComponentsRepeated", Kind::scene, with_constraint("{name: pin, type: coincident, body_a: b, body_b: ground, components: [x, y, z, x]}"), {"s.yaml:13:", "scene.constraints[0].components", "'x' is given twice"}},
+      {"ComponentsNotAList", Kind::scene, with_constraint("{name: pin, type: coincident, body_a: b, body_b: ground, components: xy}"), {"s.yaml:13:", "scene.constraints[0].components", "expected a list"}},
+      {"ConstraintNameWithDot", Kind::scene, with_constraint("{name: pin.x, type: coupler, joint_a: j1, joint_b: j2}"), {"s.yaml:13:", "scene.constraints[0].name", "'pin.x' is not a valid name"}},
+      {"ConstraintNamedLikeAnotherRow", Kind::scene, with_constraint("{name: coincident1, type: coupler, joint_a: j1, joint_b: j2}\n    - {type: coincident, body_a: b, body_b: ground}"), {"s.yaml:14:", "scene.constraints[1].name", "duplicate constraint name 'coincident1'"}},
+      {"GeneralSpeedTwice", Kind::scene, with_constraint("{name: g, type: general, a: {j1.u: 1, j1.u: 2}}"), {"s.yaml:13:", "scene.constraints[0].a.j1.u", "given twice"}},
+      {"GeneralNonScalarSpeedKey", Kind::scene, with_constraint("{name: g, type: general, a: {[j1.u]: 1}}"), {"s.yaml:13:", "scene.constraints[0].a", "expected a name, got a list"}},
+      {"UniversalParallelAxes", Kind::scene, edit(s, "{name: j2, type: revolute, parent: a, child: b, axis: [0, 0, 1]", "{name: j2, type: universal, parent: a, child: b, axes: [[0, 0, 1], [0, 0, \"-L\"]]"), {"s.yaml:11:", "scene.joints[1].axes[1]", "two axes are parallel"}},
+      {"NoDegreesOfFreedom", Kind::scene, edit(edit(s, "type: revolute, parent: ground, child: a, axis: [0, 0, 1]", "type: weld, parent: ground, child: a"), "type: revolute, parent: a, child: b, axis: [0, 0, 1]", "type: weld, parent: a, child: b"), {"s.yaml:3:3", "scene.joints", "no degrees of freedom"}},
+      {"TooManyBodies", Kind::scene, [] {
+         std::string t = "kanesens: 1\nscene:\n  name: many\n  bodies:\n";
+         for (int i = 0; i < 4097; ++i) t += "    - {name: b" + std::to_string(i) + ", mass: 1, inertia: {shape: point}}\n";
+         return t + "  joints: []\n";
+       }(), {"s.yaml:3:3", "scene.bodies", "4097 bodies; kanesens handles at most 4096"}},
+      // Magnitudes: the equations at the initial state must be finite.
+      {"MassOverflowsTheMassMatrix", Kind::scene, edit(edit(s, "{name: a, mass: m,", "{name: a, mass: 1e308,"), "child_point: [0, \"L/2\", 0]", "child_point: [0, 1e10, 0]"), {"s.yaml:3:3", "scene", "at the initial state (t = 0) the forcing of j1.u is", "out of range"}},
+      {"MassMatrixSingularAtT0", Kind::scene, edit(edit(edit(s, "{xx: 1, yy: 1, zz: 1}", "{shape: point}"), "{name: j2, type: revolute, parent: a, child: b, axis: [0, 0, 1], child_point: [0, \"L/2\", 0]}", "{name: j2, type: prismatic, parent: a, child: b, axis: [0, 0, 1]}\n    - {name: j3, type: revolute, parent: ground, child: c, axis: [0, 0, 1]}"), "  joints:", "    - {name: c, mass: 1, inertia: {shape: point}}\n  joints:"), {"s.yaml:3:3", "at the initial state (t = 0): mass matrix is not positive definite"}},
+      {"QuaternionNotFinite", Kind::scene, edit(kBall, "child_point: [0, 1, 0]}", "child_point: [0, 1, 0], q0: [1e308, 1e308, 0, \"1e308*1e10\"]}"), {"s.yaml:", "scene.joints[0].q0"}},
       {"MalformedYamlUnclosedFlow", Kind::scene, edit(s, "{m: 1, L: 1}", "{m: 1, L: 1"), {"s.yaml:", "malformed YAML"}},
       {"MalformedYamlBadIndent", Kind::scene, edit(s, "  name: two", "  name: two\n name2: x"), {"s.yaml:", "malformed YAML"}},
       {"MalformedYamlTab", Kind::scene, edit(s, "  name: two", "\tname: two"), {"s.yaml:", "malformed YAML"}},
@@ -188,6 +243,16 @@ std::vector<Case> scene_cases() {
       {"DeepYamlNesting", Kind::scene, "kanesens: 1\nscene: " + std::string(20000, '[') + std::string(20000, ']') + "\n", {"s.yaml:", "malformed YAML"}},
       {"YamlAliasToItself", Kind::scene, "kanesens: 1\nscene: &a {name: x, bodies: [*a], joints: []}\n", {"s.yaml:2:", "scene.bodies[0]", "unknown key"}},
       {"NonScalarMapKey", Kind::scene, edit(s, "{m: 1, L: 1}", "{[a]: 1, L: 1}"), {"s.yaml:5:", "scene.parameters", "expected a parameter name"}},
+      // Input is UTF-8 text: names end up in JSON, HDF5 strings and messages.
+      {"InvalidUtf8InName", Kind::scene, edit(s, "name: two", "name: \"tw\xC3\x28\""), {"s.yaml:3:12", "invalid UTF-8 (byte 0xC3)"}},
+      {"OverlongUtf8", Kind::scene, edit(s, "name: two", "name: \"t\xC0\xAFo\""), {"s.yaml:3:", "invalid UTF-8 (byte 0xC0)"}},
+      {"Utf8Surrogate", Kind::scene, edit(s, "name: two", "name: \"t\xED\xA0\x80o\""), {"s.yaml:3:", "invalid UTF-8 (byte 0xED)"}},
+      {"TruncatedUtf8AtEnd", Kind::scene, s + "# \xE2\x82", {"invalid UTF-8 (byte 0xE2)"}},
+      {"ControlCharacter", Kind::scene, edit(s, "name: two", "name: \"t\x01o\""), {"s.yaml:3:", "control character 0x01"}},
+      {"NulCharacter", Kind::scene, edit(s, "name: two", std::string("name: \"t\0o\"", 12)), {"s.yaml:3:", "control character 0x00"}},
+      // An unknown name of 250 000 characters: the did-you-mean search stays linear and the
+      // message stays one readable line.
+      {"HugeUnknownName", Kind::scene, edit(s, "parent: a,", "parent: " + std::string(250000, 'a') + ","), {"s.yaml:11:", "scene.joints[1].parent", "bytes ...]"}},
   };
 }
 
@@ -242,6 +307,16 @@ std::vector<Case> study_cases() {
       {"StudySetNan", Kind::study, s, {"--set m", "finite"}, {"m=nan"}},
       {"StudySetZeroMass", Kind::study, s, {"mass must be > 0"}, {"m=0"}},
       {"StudySetBadSetting", Kind::study, s, {"sampling.samples", "expected an integer in [1,"}, {"sampling.samples=0"}},
+      // Found too late before: while integrating, in every sample, after the file existed.
+      {"StudyAtolListShort", Kind::study, s + "solver: {atol: [1e-8]}\n", {"StudyAtolListShort.yaml:15:16", "solver.atol", "one entry per state (2: hinge.q, hinge.u), found 1"}},
+      {"StudySensitivityTwice", Kind::study, edit(s, "sensitivities: [m]", "sensitivities: [m, L, m]"), {"StudySensitivityTwice.yaml:14:23", "sensitivities[2]", "'m' is listed twice"}},
+      {"StudyOutputTimesOverflow", Kind::study, edit(s, "{end: 1, outputs: 11}", "{start: -1e308, end: 1e308, outputs: 11}"), {"StudyOutputTimesOverflow.yaml:10:", "time", "not finite in double precision"}},
+      {"StudyOutputTimesRepeated", Kind::study, edit(s, "{end: 1, outputs: 11}", "{start: 1e16, end: 1.000000000000002e16, outputs: 101}"), {"StudyOutputTimesRepeated.yaml:10:", "time", "not distinct in double precision"}},
+      {"StudyTimesNan", Kind::study, edit(s, "{end: 1, outputs: 11}", "{times: [0, nan, 1]}"), {"StudyTimesNan.yaml:10:", "time.times[1]"}},
+      {"StudyAdamsOnConstrainedSceneByDefault", Kind::study, edit(s, "q0: 0.3}", "q0: 0.3}\n  constraints:\n    - {name: g, type: general, position: \"hinge.q - 0.3\"}") + "solver: {method: adams}\n", {"StudyAdamsOnConstrainedSceneByDefault.yaml:17:18", "solver.method", "default stabilization is projection", "baumgarte"}},
+      {"StudyDegenerateConstraint", Kind::study, edit(s, "q0: 0.3}", "q0: 0}\n  constraints:\n    - {name: g, type: general, position: \"hinge.q^2\"}"), {"StudyDegenerateConstraint.yaml:11:7", "scene.constraints[0]", "constraint 'g' constrains nothing at the initial state"}},
+      {"StudyMassMatrixSingularAtT0", Kind::study, edit(s, "{shape: rod, length: L, axis: y}}", "{shape: point}}"), {"StudyMassMatrixSingularAtT0.yaml:3:3", "mass matrix is not positive definite"}},
+      {"StudyMaxOrderOverflow", Kind::study, s + "solver: {max_order: 4294967297}\n", {"StudyMaxOrderOverflow.yaml:15:", "solver.max_order", "from 1 to 12"}},
   };
 }
 
@@ -297,8 +372,40 @@ TEST(BadInputTable, Count) {
   EXPECT_GE(n, 100u);
 }
 
+// A SceneSpec is also built by code (not only parsed): components must be valid indices, at
+// most three and distinct, or they would write past the 3-element array of a Constraint.
+TEST(BadInputTable, ComponentsFromCodeAreCheckedAtBuild) {
+  SceneSpec spec = parse_scene_text(with_constraint("{name: pin, type: coincident, body_a: b, body_b: ground}"), "s.yaml");
+  for (const auto& [components, says] : std::vector<std::pair<std::vector<int>, std::string>>{
+           {{0, 1, 2, 0}, "at most 3 components"}, {{0, 7}, "expected x, y or z"}, {{1, 1}, "'y' is given twice"}}) {
+    spec.constraints[0].components = components;
+    try {
+      build_model(spec);
+      ADD_FAILURE() << "accepted components " << says;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(BadInputTable, GoodTextsAreGood) {
   EXPECT_NO_THROW(build_model(parse_scene_text(kScene, "s.yaml")));
+  // Redundant rows are not degenerate ones: the z row of a pin in a planar scene vanishes, x and
+  // y do not (tests/regression/test_constraints_pendulum.cpp integrates it).
+  {
+    const Model m = build_model(parse_scene_text(with_constraint("{name: pin, type: coincident, body_a: b, body_b: ground, point_b: [0, -0.5, 0], components: [x, y, z]}"), "s.yaml"));
+    EXPECT_NO_THROW(KaneProblem(m, {}).validate_initial_state());
+  }
+  // Huge but finite quaternion components are normalised, and a free joint's translation is a
+  // coordinate a position function may use.
+  {
+    const Model m = build_model(parse_scene_text(edit(kBall, "child_point: [0, 1, 0]}", "child_point: [0, 1, 0], q0: [1e200, 1e200, 0, 0]}"), "s.yaml"));
+    EXPECT_NO_THROW(KaneProblem(m, {}).validate_initial_state());
+    const std::string free = edit(edit(kBall, "type: spherical", "type: free"), "child_point: [0, 1, 0]}", "q0: [0, 1, 0, 1, 0, 0, 0]}") +
+                             "  constraints:\n    - {name: g, type: general, position: \"j.x^2 + j.y^2 - 1\"}\n";
+    const Model mf = build_model(parse_scene_text(free, "s.yaml"));
+    EXPECT_NO_THROW(KaneProblem(mf, {}).validate_initial_state());
+  }
   const auto path = temp_dir() / "good.yaml";
   std::ofstream(path) << kStudy;
   EXPECT_NO_THROW(parallel::validate_study(path.string(), {}));

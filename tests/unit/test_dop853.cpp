@@ -31,6 +31,24 @@ class BlowUp : public ks::OdeProblem {
   void rhs(double, const double* y, double* ydot) override { ydot[0] = y[0] * y[0]; }
 };
 
+// y' = −y, except that f cannot be evaluated (RecoverableError) on calls first..last, or at
+// any t > after.
+class Recovering : public ks::OdeProblem {
+ public:
+  Recovering(long first, long last, double after) : first_(first), last_(last), after_(after) {}
+  int size() const override { return 1; }
+  void initial_state(double* y0) const override { y0[0] = 1; }
+  void rhs(double t, const double* y, double* ydot) override {
+    ++calls_;
+    if ((calls_ >= first_ && calls_ <= last_) || t > after_) throw ks::RecoverableError("mass matrix is singular here");
+    ydot[0] = -y[0];
+  }
+
+ private:
+  long calls_ = 0, first_, last_;
+  double after_;
+};
+
 struct Trajectory {
   ks::IntegrationResult result;
   std::vector<double> t, x, s;
@@ -174,6 +192,22 @@ TEST(Dop853, FailuresAreStatuses) {
   EXPECT_EQ(r3.result.status, -8);
   EXPECT_NE(r3.result.message.find("spring broke"), std::string::npos) << r3.result.message;
   EXPECT_EQ(r3.result.outputs_recorded, 2);
+
+  // A RecoverableError rejects the trial step, which is retried smaller; a persistent one fails
+  // the integration with its message; one at t0 fails at once.
+  Recovering transient(10, 11, 1e300);
+  const Trajectory r4 = run(transient, dop853(1e-10, 1e-12), grid(2.0, 3));
+  ASSERT_EQ(r4.result.status, 1) << r4.result.message;
+  EXPECT_GE(r4.result.stats.callback_recoverable, 1);
+  EXPECT_NEAR(r4.x[2], std::exp(-2.0), 1e-9);
+  Recovering persistent(0, -1, 1.0);
+  const Trajectory r5 = run(persistent, dop853(1e-10, 1e-12), grid(2.0, 3));
+  EXPECT_EQ(r5.result.status, -3) << r5.result.message;
+  EXPECT_NE(r5.result.message.find("mass matrix is singular here"), std::string::npos) << r5.result.message;
+  Recovering at_t0(1, 1, 1e300);
+  const Trajectory r6 = run(at_t0, dop853(1e-10, 1e-12), grid(2.0, 3));
+  EXPECT_EQ(r6.result.status, -8) << r6.result.message;
+  EXPECT_NE(r6.result.message.find("mass matrix is singular here"), std::string::npos) << r6.result.message;
 
   ks::SolverOptions order = dop853(1e-8, 1e-10);
   order.max_order = 5;

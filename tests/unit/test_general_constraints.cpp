@@ -84,3 +84,21 @@ TEST(GeneralConstraints, VelocityFormSeesEveryCoordinateAndParameter) {
   EXPECT_NEAR(ws.velocity_residual[0], 0.70 * 0.5 * 3.0 + 0.25 - 0.69, 1e-15);
   EXPECT_NEAR(ws.constraint_bias[0], -(0.70 * 3.0 * 3.0), 1e-14);  // −(ȧ u) with ȧ = p69 q̇
 }
+
+// A constraint row that vanishes at a state gives no multiplier there: evaluate_rhs says so
+// (and why) instead of returning λ = 0 as if the constraint held.
+TEST(GeneralConstraints, AVanishingRowIsAReportedFailureNotAZeroMultiplier) {
+  const Model m = kanesens::testing::model_from_text(scene(2, "{name: g, type: general, position: \"j1.q^2 - p1\"}"));
+  Workspace<double> ws(m);
+  const std::vector<double> p = m.nominal_parameters();
+  set_parameters(m, ws, p.data());
+  std::vector<double> y(4, 0.0), ydot(4);
+  RhsFailure why = RhsFailure::none;
+  EXPECT_FALSE(evaluate_rhs(m, ws, 0.0, y.data(), ydot.data(), {}, &why));  // A = 2 j1.q = 0
+  EXPECT_EQ(why, RhsFailure::constraints_degenerate);
+  EXPECT_EQ(ws.constraint_rank, 0);
+  y[1] = 0.2;
+  EXPECT_TRUE(evaluate_rhs(m, ws, 0.0, y.data(), ydot.data(), {}, &why));
+  EXPECT_EQ(why, RhsFailure::none);
+  EXPECT_EQ(ws.constraint_rank, 1);
+}

@@ -353,7 +353,10 @@ class Faulty : public Oscillator {
     nan_after_t1,
     nan_at_t0,
     nan_on_calls_20_to_22,
-    throw_when_perturbed
+    throw_when_perturbed,
+    recoverable_on_calls_20_to_22,  // e.g. a mass matrix that is singular at a trial state
+    recoverable_after_t1,
+    recoverable_at_t0
   };
   explicit Faulty(Fault f) : fault(f) {}
   void rhs(double t, const double* y, double* ydot) override {
@@ -367,6 +370,9 @@ class Faulty : public Oscillator {
     if (fault == Fault::throw_when_perturbed && t > 1 && parameters()[3] != 0.4) {
       throw std::runtime_error("perturbed c");
     }
+    if ((fault == Fault::recoverable_on_calls_20_to_22 && rhs_calls >= 20 && rhs_calls <= 22) ||
+        (fault == Fault::recoverable_after_t1 && t > 1) || (fault == Fault::recoverable_at_t0 && t == 0))
+      throw ks::RecoverableError("mass matrix is not positive definite");
   }
   void sensitivity_rhs(double t, const double* y, const double* ydot, int i, const double* s,
                        double* sdot) override {
@@ -459,6 +465,37 @@ TEST(IntegratorFailure, NanAtInitialTime) {
   EXPECT_EQ(tr.result.status, CV_FIRST_RHSFUNC_ERR);
   EXPECT_TRUE(contains(tr.result.message, "non-finite")) << tr.result.message;
   EXPECT_EQ(tr.result.outputs_recorded, 1);  // the initial state is still recorded
+}
+
+// A state where f cannot be evaluated (RecoverableError, e.g. a singular mass matrix at a trial
+// state) is CVODES's recoverable +1: the step is retried smaller and the integration goes on.
+TEST(IntegratorFailure, RecoverableErrorRetriesTheStep) {
+  Faulty f(Faulty::Fault::recoverable_on_calls_20_to_22);
+  f.with_sens = false;
+  Oscillator clean;
+  clean.with_sens = false;
+  const Trajectory tr = run(tight(), f, kTimes);
+  const Trajectory ref = run(tight(), clean, kTimes);
+  ASSERT_TRUE(tr.result.ok()) << tr.result.message;
+  EXPECT_EQ(tr.result.stats.callback_recoverable, 3);
+  EXPECT_LT(max_abs_diff(tr, ref), 1e-8);
+}
+
+// Only when smaller steps do not help does the sample fail, with the reason in its message.
+TEST(IntegratorFailure, PersistentRecoverableErrorFailsWithItsMessage) {
+  Faulty f(Faulty::Fault::recoverable_after_t1);
+  ks::SolverOptions o = tight();
+  o.max_steps = 5000;
+  const Trajectory tr = run(o, f, kTimes);
+  std::printf("[ message  ] %s\n", tr.result.message.c_str());
+  EXPECT_LT(tr.result.status, 0);
+  EXPECT_GT(tr.result.stats.callback_recoverable, 1);
+  EXPECT_TRUE(contains(tr.result.message, "rhs failed at t = 1")) << tr.result.message;
+  EXPECT_TRUE(contains(tr.result.message, "mass matrix is not positive definite")) << tr.result.message;
+  Faulty at_t0(Faulty::Fault::recoverable_at_t0);
+  const Trajectory tr0 = run(tight(), at_t0, kTimes);
+  EXPECT_EQ(tr0.result.status, CV_FIRST_RHSFUNC_ERR);
+  EXPECT_TRUE(contains(tr0.result.message, "mass matrix is not positive definite")) << tr0.result.message;
 }
 
 TEST(IntegratorFailure, MaxStepsIsATotalBudget) {

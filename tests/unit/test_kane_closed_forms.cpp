@@ -14,6 +14,7 @@
 
 #include "../support/kane_test_support.hpp"
 #include "dynamics/equations.hpp"
+#include "dynamics/frames.hpp"
 #include "../support/layers.hpp"
 
 namespace ks = kanesens::testing;
@@ -286,7 +287,7 @@ scene:
     }
     const Vector3d com = P + d - R * c;
     EXPECT_LT(max_abs(ws.R[0] - R), 1e-14) << cc.name;
-    EXPECT_LT((ws.com[0] - com).norm(), 1e-14) << cc.name;
+    EXPECT_LT((ks::world_point(m, ws, 0, Vector3d::Zero().eval()) - com).norm(), 1e-14) << cc.name;
   }
 }
 

@@ -23,6 +23,7 @@
 #include "../support/kane_test_support.hpp"
 #include "math/dual.hpp"
 #include "dynamics/equations.hpp"
+#include "dynamics/frames.hpp"
 #include "../support/layers.hpp"
 
 namespace ks = kanesens::testing;
@@ -55,15 +56,13 @@ class Kinematics {
   Vector3d omega(int b) const { return unskew3(Rdot(b) * R(b).transpose()); }
   Vector3d point(int b, const Vector3d& r) const {
     if (b < 0) return r;
-    Vector3d c;
-    for (int i = 0; i < 3; ++i) c[i] = ws_.com[b][i].v;
-    return c + R(b) * r;
+    const ks::Vec3<ks::Dual> c = ks::world_point(m_, ws_, b, ks::Vec3<ks::Dual>::Zero().eval());
+    return Vector3d(c[0].v, c[1].v, c[2].v) + R(b) * r;
   }
   Vector3d point_velocity(int b, const Vector3d& r) const {
     if (b < 0) return Vector3d::Zero();
-    Vector3d cd;
-    for (int i = 0; i < 3; ++i) cd[i] = ws_.com[b][i].d;
-    return cd + Rdot(b) * r;
+    const ks::Vec3<ks::Dual> c = ks::world_point(m_, ws_, b, ks::Vec3<ks::Dual>::Zero().eval());
+    return Vector3d(c[0].d, c[1].d, c[2].d) + Rdot(b) * r;
   }
   // Rate of change of the distance between two points (spring-damper L̇).
   double length_rate(int a, const Vector3d& ra, int b, const Vector3d& rb) const {
@@ -314,11 +313,12 @@ TEST_P(KaneIdentities, MassMatrixIsSpdAndMatchesPartialVelocityDefinition) {
         qm[i] -= h * dq[i];
       }
       ks::compute_position(m, ws_h, qp.data());
-      std::vector<Vector3d> cp(ws_h.com.begin(), ws_h.com.end());
+      std::vector<Vector3d> cp(nb);
+      for (int b = 0; b < nb; ++b) cp[b] = ks::world_point(m, ws_h, b, Vector3d::Zero().eval());
       std::vector<Matrix3d> Rp(ws_h.R.begin(), ws_h.R.end());
       ks::compute_position(m, ws_h, qm.data());
       for (int b = 0; b < nb; ++b) {
-        V[b][k] = (cp[b] - ws_h.com[b]) / (2 * h);
+        V[b][k] = (cp[b] - ks::world_point(m, ws_h, b, Vector3d::Zero().eval())) / (2 * h);
         W[b][k] = unskew3((Rp[b] - ws_h.R[b]) / (2 * h) * R0[b].transpose());
       }
     }

@@ -1,6 +1,7 @@
 // The hot path allocates nothing: evaluate_rhs and
-// evaluate_mass_matrix_and_forcing on double and Dual, counted by replacing the global
-// operator new for this test program.
+// evaluate_mass_matrix_and_forcing on double, Dual and the multi-tangent MultiDual, and the
+// solvers' callbacks of KaneProblem (rhs, Jacobian, all sensitivity right-hand sides at once),
+// counted by replacing the global operator new for this test program.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -9,6 +10,8 @@
 #include <random>
 
 #include "math/dual.hpp"
+#include "math/multi_dual.hpp"
+#include "sim/kane_problem.hpp"
 #include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
 #include "model/scene/parse_scene.hpp"
@@ -76,6 +79,9 @@ void expect_no_allocation(const std::string& text) {
   for (const Joint& J : m.joints)
     if (J.quaternion_offset >= 0) y[J.quaternion_offset] = y[J.quaternion_offset] + S(2.0);
   if constexpr (std::is_same_v<S, Dual>) y[0].d = 1.0;  // a Jacobian column
+  if constexpr (math::is_multi_dual_v<S>)
+    for (std::size_t r = 0; r < y.size(); ++r)
+      y[r].set_tangents([&](int i) { return i == static_cast<int>(r) % S::tangents ? 1.0 : 0.5; }, S::tangents);
   const S t(0.3);
   evaluate_rhs(m, ws, t, y.data(), ydot.data());  // warm-up, outside the count
   const long n = allocations_during([&] {
@@ -121,5 +127,44 @@ TEST(NoAllocation, EvaluateRhsDual) {
   for (const auto& c : cases()) {
     SCOPED_TRACE(c.name);
     expect_no_allocation<Dual>(c.text);
+  }
+}
+
+TEST(NoAllocation, EvaluateRhsMultiDual) {
+  for (const auto& c : cases()) {
+    SCOPED_TRACE(c.name);
+    expect_no_allocation<math::MultiDual<8>>(c.text);
+    expect_no_allocation<math::MultiDual<12>>(c.text);
+  }
+}
+
+TEST(NoAllocation, SolverCallbacks) {
+  for (const auto& c : cases()) {
+    SCOPED_TRACE(c.name);
+    const Model m = build_model(parse_scene_text(c.text, "scene.yaml"));
+    std::vector<InputRef> refs;
+    for (int i = 0; i < m.nparam() && i < 5; ++i) refs.push_back({InputRef::Kind::parameter, i, m.parameters[static_cast<std::size_t>(i)].name});
+    refs.push_back({InputRef::Kind::initial_condition, 0, "q0"});
+    KaneProblem p(m, refs);
+    p.set_sample(SampleInputs(m));
+    const int n = p.size(), ns = static_cast<int>(refs.size());
+    std::vector<double> y(static_cast<std::size_t>(n)), ydot(y.size()), J(y.size() * y.size());
+    p.initial_state(y.data());
+    std::vector<std::vector<double>> s(static_cast<std::size_t>(ns), std::vector<double>(y.size(), 0.1)), sd(s);
+    std::vector<const double*> sp;
+    std::vector<double*> sdp;
+    for (int i = 0; i < ns; ++i) {
+      sp.push_back(s[static_cast<std::size_t>(i)].data());
+      sdp.push_back(sd[static_cast<std::size_t>(i)].data());
+    }
+    auto all = [&] {
+      p.rhs(0.2, y.data(), ydot.data());
+      p.jacobian(0.2, y.data(), ydot.data(), J.data());
+      p.sensitivity_rhs_all(0.2, y.data(), ydot.data(), ns, sp.data(), sdp.data());
+      p.rhs_with_sensitivities(0.2, y.data(), ns, sp.data(), ydot.data(), sdp.data());
+    };
+    all();  // warm-up, outside the count
+    const long count = allocations_during([&] { all(); });
+    EXPECT_EQ(count, 0) << m.name << ": " << count << " heap allocations";
   }
 }

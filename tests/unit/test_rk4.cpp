@@ -1,4 +1,4 @@
-// Tests of solve/rk4 (the fixed-step baseline of `kanesens bench workprecision`) on the
+// Tests of solve/rk4 (the fixed-step baseline of `kanesens-workprecision`) on the
 // undamped oscillator x'' = −(k/m) x, x(0) = x0, v(0) = 0: x = x0 cos ωt, ω = √(k/m),
 // ∂x/∂k = −x0 t sin(ωt) / (2 m ω).
 //   - fourth order: halving h divides the error by ≈ 16, for the state and the sensitivity;

@@ -9,6 +9,9 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
 #include <span>
 #include <string>
 #include <vector>
@@ -50,7 +53,7 @@ struct Row {
     for (auto* v : {&p, &x0, &states, &lambda, &sens, &outputs, &stats}) {
       for (std::size_t k = 0; k < v->size(); ++k) (*v)[k] = 100.0 * i + k;
     }
-    return {i, status, status == 1 ? "" : "failed", p, x0, states, lambda, sens, outputs, stats};
+    return {i, status, status == 1 ? "" : "failed", p, x0, states, lambda, sens, outputs, stats, {}, {}, {}, {}};
   }
 };
 
@@ -305,6 +308,183 @@ TEST_F(RunFileTest, StoresLongTextAttributes) {
   RunFile::create(MPI_COMM_WORLD, path_, l, false).close();
   File file(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "H5Fopen");
   EXPECT_EQ(read_text_attribute(file.get(), "scene_yaml"), scene);
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST_F(RunFileTest, CreateNeverFollowsOrTruncatesWhatIsAtThePartialName) {
+  const std::string target = (dir_ / "precious.txt").string(), partial = path_ + ".partial";
+  { std::ofstream(target) << "precious\n"; }
+  std::filesystem::create_symlink(target, partial);
+  // Without --overwrite: refused (exclusive creation), the link and its target untouched.
+  EXPECT_THROW(RunFile::create(MPI_COMM_WORLD, path_, small_layout(), false), std::runtime_error);
+  EXPECT_EQ(file_bytes(target), "precious\n");
+  EXPECT_TRUE(std::filesystem::is_symlink(partial));
+  EXPECT_FALSE(std::filesystem::exists(path_));
+  // With --overwrite the stale link is removed, never written through.
+  RunFile::create(MPI_COMM_WORLD, path_, small_layout(), true).close();
+  EXPECT_EQ(file_bytes(target), "precious\n");
+  EXPECT_FALSE(std::filesystem::exists(std::filesystem::symlink_status(partial)));
+  // An output that is itself a link to a file is replaced as a name (--overwrite), not written
+  // through.
+  std::filesystem::remove(path_);
+  std::filesystem::create_symlink(target, path_);
+  EXPECT_THROW(RunFile::create(MPI_COMM_WORLD, path_, small_layout(), false), std::runtime_error);
+  RunFile::create(MPI_COMM_WORLD, path_, small_layout(), true).close();
+  EXPECT_EQ(file_bytes(target), "precious\n");
+  EXPECT_FALSE(std::filesystem::is_symlink(path_));
+}
+
+TEST_F(RunFileTest, CreateRefusesADirectoryAtThePartialName) {
+  std::filesystem::create_directory(path_ + ".partial");
+  EXPECT_THROW(RunFile::create(MPI_COMM_WORLD, path_, small_layout(), true), std::runtime_error);
+  EXPECT_TRUE(std::filesystem::is_directory(path_ + ".partial"));
+  EXPECT_FALSE(std::filesystem::exists(path_));
+}
+
+// A run file is input too: each hostile edit of a real file must be refused by --resume, with
+// the file left byte-identical, instead of being written through (a heap overflow or heap
+// memory in the file, before these checks).
+TEST_F(RunFileTest, ResumeRefusesFilesWhoseDatasetsAreNotWhatItWrites) {
+  auto replace = [](hid_t f, const char* name, hid_t type, std::vector<hsize_t> dims, hid_t dcpl = H5P_DEFAULT) {
+    check(H5Ldelete(f, name, H5P_DEFAULT), "H5Ldelete");
+    Dataspace space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), "space");
+    Dataset(H5Dcreate2(f, name, type, space.get(), H5P_DEFAULT, dcpl, H5P_DEFAULT), "H5Dcreate2");
+  };
+  const std::vector<std::pair<std::string, std::function<void(hid_t)>>> edits = {
+      {"dataset /status has shape (5)", [&](hid_t f) { replace(f, "/status", H5T_STD_I32LE, {5}); }},
+      {"dataset /states has shape (3, 3, 3)", [&](hid_t f) { replace(f, "/states", H5T_IEEE_F64LE, {3, 3, 3}); }},
+      {"dataset /status is not int32", [&](hid_t f) { replace(f, "/status", H5T_IEEE_F64LE, {3}); }},
+      {"dataset /parameters is not float64", [&](hid_t f) { replace(f, "/parameters", H5T_STD_I8LE, {3, 1}); }},
+      {"dataset /message has strings of 8 bytes", [&](hid_t f) {
+         const Datatype t = make_string_type(8);
+         replace(f, "/message", t.get(), {3});
+       }},
+      {"dataset /message is not of fixed-length strings", [&](hid_t f) {
+         Datatype t(H5Tcopy(H5T_C_S1), "H5Tcopy");
+         check(H5Tset_size(t.get(), H5T_VARIABLE), "H5Tset_size");
+         replace(f, "/message", t.get(), {3});
+       }},
+      {"it has 4 samples, this study 3", [&](hid_t f) { replace(f, "/sample", H5T_STD_I64LE, {4}); }},
+      {"dataset /sample is not int64", [&](hid_t f) { replace(f, "/sample", H5T_IEEE_F32LE, {3}); }},
+      {"/states is a soft or external link", [&](hid_t f) {
+         check(H5Ldelete(f, "/states", H5P_DEFAULT), "H5Ldelete");
+         check(H5Lcreate_soft("/sensitivities", f, "/states", H5P_DEFAULT, H5P_DEFAULT), "soft");
+       }},
+      {"/status is a soft or external link", [&](hid_t f) {
+         check(H5Ldelete(f, "/status", H5P_DEFAULT), "H5Ldelete");
+         check(H5Lcreate_external("elsewhere.h5", "/status", f, "/status", H5P_DEFAULT, H5P_DEFAULT), "ext");
+       }},
+      {"dataset /states keeps its data in an external file", [&](hid_t f) {
+         PropertyList dcpl(H5Pcreate(H5P_DATASET_CREATE), "dcpl");
+         check(H5Pset_external(dcpl.get(), "precious.bin", 0, H5F_UNLIMITED), "H5Pset_external");
+         replace(f, "/states", H5T_IEEE_F64LE, {3, 3, 2}, dcpl.get());
+       }},
+      {"dataset /initial_state is filtered", [&](hid_t f) {
+         PropertyList dcpl(H5Pcreate(H5P_DATASET_CREATE), "dcpl");
+         const hsize_t chunk[2] = {1, 2};
+         check(H5Pset_chunk(dcpl.get(), 2, chunk), "H5Pset_chunk");
+         check(H5Pset_shuffle(dcpl.get()), "H5Pset_shuffle");
+         replace(f, "/initial_state", H5T_IEEE_F64LE, {3, 2}, dcpl.get());
+       }},
+      {"dataset /multipliers is missing", [&](hid_t f) { check(H5Ldelete(f, "/multipliers", H5P_DEFAULT), "del"); }},
+      {"dataset /solver_stats/steps is not a dataset", [&](hid_t f) {
+         check(H5Ldelete(f, "/solver_stats/steps", H5P_DEFAULT), "H5Ldelete");
+         Group(H5Gcreate2(f, "/solver_stats/steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "H5Gcreate2");
+       }},
+      {"it has no study_hash attribute", [&](hid_t f) { check(H5Adelete(f, "study_hash"), "H5Adelete"); }},
+      {"attribute study_hash is not a single string", [&](hid_t f) {
+         check(H5Adelete(f, "study_hash"), "H5Adelete");
+         const Datatype t = make_string_type(3);
+         const hsize_t two = 2;
+         Dataspace space(H5Screate_simple(1, &two, nullptr), "space");
+         Attribute(H5Acreate2(f, "study_hash", t.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), "H5Acreate2");
+       }},
+      {"state names [] differ from this study's [q, u]", [&](hid_t f) {  // 5 empty names
+         const Datatype t = make_string_type(4);
+         replace(f, "/state", t.get(), {5});
+       }},
+  };
+  for (const auto& [says, edit] : edits) {
+    std::filesystem::remove(path_);
+    RunFile::create(MPI_COMM_WORLD, path_, small_layout(), false).close();
+    {
+      File f(H5Fopen(path_.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), "H5Fopen");
+      edit(f.get());
+    }
+    const std::string before = file_bytes(path_);
+    try {
+      RunFile file = RunFile::open_for_resume(MPI_COMM_WORLD, path_, small_layout());
+      ADD_FAILURE() << "accepted a file where " << says;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("cannot resume '" + path_ + "'"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(file_bytes(path_), before) << says;
+  }
+}
+
+TEST_F(RunFileTest, StudyOutputsTheirSensitivitiesAndPoses) {
+  RunLayout l = small_layout();
+  l.output_names = {"energy", "tip.x"};
+  l.scalar_output_names = {"work"};
+  l.output_sensitivity_names = {"tip.x"};
+  l.scalar_output_sensitivity_names = {"work"};
+  l.body_names = {"rod"};
+  l.record_poses = true;
+  // Written as a block of two samples (the ensemble's path) and as one row.
+  std::vector<double> outputs(2 * 3), scalars{1.5}, output_sens(3 * 1), scalar_sens{2.5}, poses(3 * 1 * 7), stats{7};
+  for (std::size_t k = 0; k < outputs.size(); ++k) outputs[k] = 10.0 + k;
+  for (std::size_t k = 0; k < output_sens.size(); ++k) output_sens[k] = 20.0 + k;
+  for (std::size_t k = 0; k < poses.size(); ++k) poses[k] = 30.0 + k;
+  Row r;
+  SampleBlock block;
+  for (std::int64_t i = 0; i < 2; ++i) {
+    SampleRow row = r.row(i, 1);
+    row.outputs = outputs;
+    row.stats = stats;
+    row.scalar_outputs = scalars;
+    row.output_sensitivities = output_sens;
+    row.scalar_output_sensitivities = scalar_sens;
+    row.poses = poses;
+    block.append(row);
+  }
+  {
+    RunFile file = RunFile::create(MPI_COMM_WORLD, path_, l, false);
+    file.write_samples(block);
+    SampleRow row = r.row(2, 1);
+    row.outputs = outputs;
+    row.scalar_outputs = scalars;
+    row.output_sensitivities = output_sens;
+    row.scalar_output_sensitivities = scalar_sens;
+    row.poses = poses;
+    file.write_sample(row);
+    SampleRow missing = row;
+    missing.poses = {};
+    EXPECT_THROW(file.write_sample(missing), std::invalid_argument);
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(read_doubles(path_, "/outputs/tip.x")[i * 3 + 2], 15.0);
+    EXPECT_EQ(read_doubles(path_, "/outputs/work")[i], 1.5);
+    EXPECT_EQ(read_doubles(path_, "/output_sensitivities/tip.x")[i * 3 + 1], 21.0);  // (sample, time, sens)
+    EXPECT_EQ(read_doubles(path_, "/output_sensitivities/work")[i], 2.5);
+    EXPECT_EQ(read_doubles(path_, "/poses")[i * 21 + 7 * 2 + 6], 30.0 + 20);  // (sample, time, body, pose)
+  }
+  File file(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "H5Fopen");
+  Dataset pose(H5Dopen2(file.get(), "/pose", H5P_DEFAULT), "H5Dopen2");
+  EXPECT_EQ(read_strings(pose.get(), "/pose"), (std::vector<std::string>{"x", "y", "z", "qw", "qx", "qy", "qz"}));
+  Dataset output(H5Dopen2(file.get(), "/output", H5P_DEFAULT), "H5Dopen2");
+  EXPECT_EQ(read_strings(output.get(), "/output"), (std::vector<std::string>{"energy", "tip.x", "work"}));
+  RunLayout other = l;
+  other.scalar_output_names = {"work2"};
+  other.scalar_output_sensitivity_names = {"work2"};
+  EXPECT_THROW(RunFile::open_for_resume(MPI_COMM_WORLD, path_, other), std::runtime_error);
+  EXPECT_NO_THROW(RunFile::open_for_resume(MPI_COMM_WORLD, path_, l));
 }
 
 }  // namespace

@@ -233,6 +233,7 @@ class Parser {
       const auto ref = names_.find(name);
       if (!ref) {
         pos_ = start;
+        if (const std::string* why = names_.refusal(name)) fail(*why);
         fail("unknown name '" + name + "'" + did_you_mean(name, names_.names()) +
              "; names allowed here: " + join_names(names_.names()));
       }
@@ -269,14 +270,45 @@ Expression::Expression(double constant) : text_(std::to_string(constant)) {
 }
 
 void NameTable::add(const std::string& name, VarRef ref) {
+  index_.emplace(name, names_.size());  // the first entry of a name wins, as before
   names_.push_back(name);
   refs_.push_back(ref);
 }
 
+void NameTable::refuse(const std::string& name, const std::string& why) {
+  refused_.emplace_back(name, why);
+}
+
+const std::string* NameTable::refusal(const std::string& name) const {
+  for (const auto& [n, why] : refused_)
+    if (n == name) return &why;
+  return nullptr;
+}
+
+std::vector<int> Expression::variables(VarKind kind) const {
+  std::vector<int> out;
+  for (const Instruction& ins : code_)
+    if (ins.op == Op::variable && ins.kind == kind && std::find(out.begin(), out.end(), ins.index) == out.end())
+      out.push_back(ins.index);
+  return out;
+}
+
 std::optional<VarRef> NameTable::find(const std::string& name) const {
-  for (std::size_t i = 0; i < names_.size(); ++i)
-    if (names_[i] == name) return refs_[i];
-  return std::nullopt;
+  const auto it = index_.find(name);
+  if (it == index_.end()) return std::nullopt;
+  return refs_[it->second];
+}
+
+bool Expression::uses(VarKind kind, int index) const {
+  for (const Instruction& i : code_)
+    if (i.op == Op::variable && i.kind == kind && i.index == index) return true;
+  return false;
+}
+
+bool Expression::uses_any(VarKind kind) const {
+  for (const Instruction& i : code_)
+    if (i.op == Op::variable && i.kind == kind) return true;
+  return false;
 }
 
 Expression compile(const std::string& text, const NameTable& names, const SourceLocation& where,

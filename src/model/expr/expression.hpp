@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "util/error.hpp"
@@ -13,7 +14,8 @@
 namespace kanesens::model::expr {
 
 // What a name in an expression refers to. Indices are into the arrays passed to evaluate().
-enum class VarKind : unsigned char { parameter, time, coordinate, speed };
+// `quantity`: a value the caller computes and names (a study's outputs, sim/output_plan.hpp).
+enum class VarKind : unsigned char { parameter, time, coordinate, speed, quantity };
 struct VarRef {
   VarKind kind;
   int index;
@@ -22,12 +24,18 @@ struct VarRef {
 class NameTable {
  public:
   void add(const std::string& name, VarRef ref);
-  std::optional<VarRef> find(const std::string& name) const;
+  std::optional<VarRef> find(const std::string& name) const;  // hashed: scenes of 100 000 names
   const std::vector<std::string>& names() const { return names_; }
+  // A name that is known but cannot be used as written; compiling it fails with `why`
+  // (e.g. a vector quantity named without a component).
+  void refuse(const std::string& name, const std::string& why);
+  const std::string* refusal(const std::string& name) const;
 
  private:
   std::vector<std::string> names_;
   std::vector<VarRef> refs_;
+  std::unordered_map<std::string, std::size_t> index_;  // name → first entry
+  std::vector<std::pair<std::string, std::string>> refused_;
 };
 
 enum class Op : unsigned char {
@@ -47,6 +55,7 @@ struct Inputs {
   const S* parameters = nullptr;
   const S* coordinates = nullptr;
   const S* speeds = nullptr;
+  const S* quantities = nullptr;
   S time = S(0);
 };
 
@@ -68,6 +77,12 @@ class Expression {
   bool uses_state() const { return uses_state_; }
   // Value when is_constant().
   double constant_value() const { return code_.empty() ? 0.0 : code_[0].value; }
+  // Whether it reads variable `index` of `kind` (e.g. coordinate 3).
+  bool uses(VarKind kind, int index) const;
+  // Whether it reads any variable of `kind`.
+  bool uses_any(VarKind kind) const;
+  // The indices of the variables of `kind` it reads (each once, in first-use order).
+  std::vector<int> variables(VarKind kind) const;
 
   template <class S>
   S evaluate(const Inputs<S>& in) const;
@@ -103,6 +118,7 @@ S Expression::evaluate(const Inputs<S>& in) const {
           case VarKind::time: st[sp++] = in.time; break;
           case VarKind::coordinate: st[sp++] = in.coordinates[ins.index]; break;
           case VarKind::speed: st[sp++] = in.speeds[ins.index]; break;
+          case VarKind::quantity: st[sp++] = in.quantities[ins.index]; break;
         }
         break;
       case Op::add: --sp; st[sp - 1] = st[sp - 1] + st[sp]; break;

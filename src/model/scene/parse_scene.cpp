@@ -187,6 +187,7 @@ ConstraintSpec parse_constraint(const YAML::Node& n, const YamlReader& r, const 
     if (c.kind == ConstraintKind::distance) c.length = r.read_expr(r.required(n, "length", key), key + ".length");
     if (const YAML::Node comp = n["components"]) {
       r.require_sequence(comp, key + ".components");
+      if (comp.size() == 0) r.fail(comp, key + ".components", "expected 1 to 3 of x, y, z; found an empty list");
       for (std::size_t i = 0; i < comp.size(); ++i) {
         const std::string x = r.read_string(comp[i], key + ".components[" + std::to_string(i) + "]");
         if (x != "x" && x != "y" && x != "z") r.fail(comp[i], key + ".components", "expected x, y or z, found '" + x + "'");
@@ -209,6 +210,8 @@ ConstraintSpec parse_constraint(const YAML::Node& n, const YamlReader& r, const 
       r.require_map(a, key + ".a");
       for (const auto& kv : a) {
         const std::string speed = r.read_string(kv.first, key + ".a");
+        for (const auto& entry : c.a)
+          if (entry.first == speed) r.fail(kv.first, key + ".a." + speed, "speed '" + speed + "' is given twice");
         c.a.emplace_back(speed, r.read_expr(kv.second, key + ".a." + speed));
       }
     }
@@ -242,6 +245,7 @@ SceneSpec parse_scene_node(const YAML::Node& n, const std::string& file, const s
   SceneSpec s;
   s.file = file;
   s.text = text;
+  s.where = r.location(n);
   s.name = r.read_string(r.required(n, "name", key), key + ".name");
   s.gravity = n["gravity"] ? r.read_vec3(n["gravity"], key + ".gravity") : zero_vec3();
   if (const YAML::Node p = n["parameters"]) {

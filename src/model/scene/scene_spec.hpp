@@ -103,6 +103,7 @@ struct ConstraintSpec {
 struct SceneSpec {
   std::string file;  // path of the file it came from ("" if inline text)
   std::string text;  // the exact YAML text (stored in output files)
+  SourceLocation where;  // the `scene:` map (messages about the scene as a whole)
   std::string name;
   Vec3Text gravity;
   std::vector<ParameterSpec> parameters;

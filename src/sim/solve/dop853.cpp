@@ -28,48 +28,74 @@ struct CallbackError {
   std::string what;
 };
 
-std::size_t stacked_size(const OdeProblem& problem, int ns) {
-  return static_cast<std::size_t>(problem.size()) * (1 + static_cast<std::size_t>(ns));
+std::size_t stacked_size(const OdeProblem& problem, int ns, const OdeQuadrature* quad) {
+  const std::size_t blocks = 1 + static_cast<std::size_t>(ns);
+  return (static_cast<std::size_t>(problem.size()) + (quad ? static_cast<std::size_t>(quad->size()) : 0)) * blocks;
 }
 
-// The stacked state z = [y; s_0; ...; s_{ns−1}] (blocks of n) and everything one step needs,
-// allocated once per integration.
+// The stacked state z = [y; s_0; ...; s_{ns−1}; Q; QS_0; ...; QS_{ns−1}] (blocks of n, then of
+// nq, the quadratures) and everything one step needs, allocated once per integration.
 class Stepper {
  public:
-  Stepper(OdeProblem& problem, const SolverOptions& o, int ns)
-      : z(stacked_size(problem, ns)), z_new(z.size()), problem_(problem), n_(static_cast<std::size_t>(problem.size())),
-        ns_(ns), N_(z.size()), stage_(N_), atol_(N_), controlled_(N_), k_(dop853::stages + 1, std::vector<double>(N_)) {
+  Stepper(OdeProblem& problem, const SolverOptions& o, int ns, OdeQuadrature* quad)
+      : z(stacked_size(problem, ns, quad)), z_new(z.size()), problem_(problem), quad_(quad),
+        n_(static_cast<std::size_t>(problem.size())), nq_(quad ? static_cast<std::size_t>(quad->size()) : 0), ns_(ns),
+        N_(z.size()), stage_(N_), atol_(N_), controlled_(N_), k_(dop853::stages + 1, std::vector<double>(N_)) {
     for (std::size_t j = 0; j < n_; ++j) atol_[j] = o.atol_per_state.empty() ? o.atol : o.atol_per_state[j];
     std::fill(controlled_.begin(), controlled_.begin() + static_cast<std::ptrdiff_t>(n_), 1);
+    const std::size_t q0 = quadrature_offset();
+    for (std::size_t j = 0; j < nq_; ++j) {  // the integrals: error-controlled like the states
+      atol_[q0 + j] = o.atol;
+      controlled_[q0 + j] = 1;
+    }
     std::vector<double> pbar = problem.sensitivity_scales();
     for (int i = 0; i < ns; ++i) {
       const double scale = pbar.empty() ? 1.0 : std::abs(pbar[static_cast<std::size_t>(i)]);
-      for (std::size_t j = 0; j < n_; ++j) {
-        const std::size_t r = n_ * (1 + static_cast<std::size_t>(i)) + j;
-        atol_[r] = o.sens_atol ? *o.sens_atol : atol_[j] / (scale > 0 ? scale : 1.0);
+      for (std::size_t j = 0; j < n_ + nq_; ++j) {
+        const bool integral = j >= n_;
+        const std::size_t r = integral ? q0 + nq_ * (1 + static_cast<std::size_t>(i)) + (j - n_)
+                                       : n_ * (1 + static_cast<std::size_t>(i)) + j;
+        const double base = integral ? o.atol : atol_[j];
+        atol_[r] = o.sens_atol ? *o.sens_atol : base / (scale > 0 ? scale : 1.0);
         controlled_[r] = o.sens_error_control ? 1 : 0;
       }
     }
     n_controlled_ = static_cast<double>(std::count(controlled_.begin(), controlled_.end(), 1));
     rtol_ = o.rtol;
     s_pointers_.resize(static_cast<std::size_t>(ns));
+    s_step_.resize(static_cast<std::size_t>(ns));
   }
 
   std::size_t size() const { return N_; }
   std::size_t states() const { return n_; }
+  std::size_t quadrature_offset() const { return n_ * (1 + static_cast<std::size_t>(ns_)); }
 
   // dz = f(t, z): the ODE, then each sensitivity's right-hand side along it.
+  // A RecoverableError leaves dz NaN: the trial step is rejected and retried smaller.
   void f(double t, const std::vector<double>& zz, std::vector<double>& dz, SolverStats& stats) {
     try {
-      problem_.rhs(t, zz.data(), dz.data());
-      ++stats.rhs_evals;
       for (int i = 0; i < ns_; ++i) {
         const std::size_t o = n_ * (1 + static_cast<std::size_t>(i));
-        problem_.sensitivity_rhs(t, zz.data(), dz.data(), i, zz.data() + o, dz.data() + o);
-        ++stats.sens_rhs_evals;
+        s_in_[static_cast<std::size_t>(i)] = zz.data() + o;
+        s_out_[static_cast<std::size_t>(i)] = dz.data() + o;
       }
+      problem_.rhs_with_sensitivities(t, zz.data(), ns_, s_in_.data(), dz.data(), s_out_.data());
+      ++stats.rhs_evals;
+      stats.sens_rhs_evals += ns_;
+      if (quad_) {
+        const std::size_t q0 = quadrature_offset();
+        quad_->rhs(t, zz.data(), dz.data() + q0);
+        if (ns_ > 0) {
+          for (int i = 0; i < ns_; ++i)
+            qs_out_[static_cast<std::size_t>(i)] = dz.data() + q0 + nq_ * (1 + static_cast<std::size_t>(i));
+          quad_->sensitivity_rhs(t, zz.data(), ns_, s_in_.data(), qs_out_.data());
+        }
+      }
+    } catch (const RecoverableError& e) {
+      std::fill(dz.begin(), dz.end(), std::numeric_limits<double>::quiet_NaN());
+      recoverable_message = e.what();
     } catch (const std::exception& e) {
-      throw CallbackError{e.what()};
+      throw CallbackError{std::string("rhs threw: ") + e.what()};
     }
   }
 
@@ -163,14 +189,40 @@ class Stepper {
     for (int i = 0; i < ns_; ++i) s_pointers_[static_cast<std::size_t>(i)] = z.data() + n_ * (1 + static_cast<std::size_t>(i));
     return ns_ ? s_pointers_.data() : nullptr;
   }
+
+  // problem.after_step on the current state; if the problem changed its coordinates, the first
+  // stage is re-evaluated (a one-step method needs nothing else to restart). True if it did.
+  bool after_step(double t, SolverStats& stats) {
+    for (int i = 0; i < ns_; ++i) s_step_[static_cast<std::size_t>(i)] = z.data() + n_ * (1 + static_cast<std::size_t>(i));
+    bool changed = false;
+    try {
+      changed = problem_.after_step(t, z.data(), ns_ ? s_step_.data() : nullptr);
+    } catch (const std::exception& e) {
+      throw CallbackError{e.what()};
+    }
+    if (!changed) return false;
+    ++stats.repartitions;
+    f(t, z, k_[0], stats);
+    return true;
+  }
+
+  // Hands Q and QS at output k to the quadrature's record().
+  void record_quadrature(int k, double t) {
+    if (!quad_) return;
+    const std::size_t q0 = quadrature_offset();
+    for (int i = 0; i < ns_; ++i) qs_pointers_[static_cast<std::size_t>(i)] = z.data() + q0 + nq_ * (1 + static_cast<std::size_t>(i));
+    quad_->record(k, t, z.data() + q0, ns_ ? qs_pointers_.data() : nullptr);
+  }
   std::vector<double>& first_stage() { return k_[0]; }
 
  public:
   std::vector<double> z, z_new;  // the current state and the trial step's (stacked)
+  std::string recoverable_message;  // the last RecoverableError of the right-hand side
 
  private:
   OdeProblem& problem_;
-  std::size_t n_;
+  OdeQuadrature* quad_;
+  std::size_t n_, nq_;
   int ns_;
   std::size_t N_;
   std::vector<double> stage_, atol_;
@@ -178,6 +230,11 @@ class Stepper {
   double n_controlled_ = 1, rtol_ = 0;
   std::vector<std::vector<double>> k_;
   std::vector<const double*> s_pointers_;
+  std::vector<const double*> s_in_ = std::vector<const double*>(static_cast<std::size_t>(ns_));  // f's arguments
+  std::vector<double*> s_out_ = std::vector<double*>(static_cast<std::size_t>(ns_));
+  std::vector<double*> s_step_;
+  std::vector<double*> qs_out_ = std::vector<double*>(static_cast<std::size_t>(ns_));  // quadrature call
+  std::vector<const double*> qs_pointers_ = std::vector<const double*>(static_cast<std::size_t>(ns_));
 };
 
 std::string at_time(const char* what, double t) {
@@ -189,7 +246,7 @@ std::string at_time(const char* what, double t) {
 }  // namespace
 
 IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& options,
-                                   std::span<const double> times, const RecordFn& record) {
+                                   std::span<const double> times, const RecordFn& record, OdeQuadrature* quad) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   options.validate(problem.size());
@@ -199,12 +256,13 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
     throw std::invalid_argument("solver.method = dop853 needs the exact sensitivity right-hand side "
                                 "(solver.sensitivity.rhs: exact)");
 
-  Stepper st(problem, options, ns);
+  Stepper st(problem, options, ns, quad);
   const std::size_t n = st.states();
   problem.initial_state(st.z.data());
   for (int i = 0; i < ns; ++i) problem.initial_sensitivity(i, st.z.data() + n * (1 + static_cast<std::size_t>(i)));
   std::vector<double> corr(n);
   const bool projecting = problem.has_projection() && options.projection_frequency > 0;
+  const bool checking = problem.has_step_check();
 
   IntegrationResult r;
   r.t_fail = std::numeric_limits<double>::quiet_NaN();
@@ -217,6 +275,7 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
   };
 
   record(0, times[0], st.z.data(), st.sensitivities());
+  st.record_quadrature(0, times[0]);
   r.outputs_recorded = 1;
   double t = times[0];
   const double h_max = options.max_step > 0 ? options.max_step : times.back() - times.front();
@@ -225,6 +284,8 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
   try {
     if (times.size() > 1) {
       st.f(t, st.z, st.first_stage(), r.stats);
+      if (!st.recoverable_message.empty())  // nothing to retry at the initial state
+        return finish(status_rhs_failed, t, at_time("DOP853_RHSFUNC_FAIL", t) + ": " + st.recoverable_message);
       h = options.initial_step > 0 ? std::min(options.initial_step, h_max) : st.initial_step(t, h_max, r.stats);
     }
     for (std::size_t k = 1; k < times.size(); ++k) {
@@ -248,8 +309,10 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
           if (h < 16 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t)))
             return finish(status_step_too_small, t,
                           at_time("DOP853_ERR_FAILURE", t) + ": the step size fell below round-off of t (" +
-                              (std::isnan(err) ? std::string("the right-hand side is not finite")
-                                               : std::string("repeated error-test failures")) + ")");
+                              (!std::isnan(err)                  ? std::string("repeated error-test failures")
+                               : st.recoverable_message.empty() ? std::string("the right-hand side is not finite")
+                                                                : st.recoverable_message) +
+                              ")");
           continue;
         }
         double factor = err == 0 ? max_factor : std::min(max_factor, std::max(min_factor, safety * std::pow(err, error_exponent)));
@@ -264,12 +327,14 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
         if (projecting && r.stats.steps % options.projection_frequency == 0 && !st.project(t, corr, r.stats))
           return finish(status_step_too_small, t, at_time("DOP853_PROJECTION_FAILED", t) +
                                                       ": the projection onto the constraints did not converge");
+        if (checking && t < times.back()) st.after_step(t, r.stats);
       }
       record(static_cast<int>(k), t_out, st.z.data(), st.sensitivities());
+      st.record_quadrature(static_cast<int>(k), t_out);
       ++r.outputs_recorded;
     }
   } catch (const CallbackError& e) {
-    return finish(status_rhs_failed, t, at_time("DOP853_RHSFUNC_FAIL", t) + ": rhs threw: " + e.what);
+    return finish(status_rhs_failed, t, at_time("DOP853_RHSFUNC_FAIL", t) + ": " + e.what);
   }
   r.status = 1;
   r.stats.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();

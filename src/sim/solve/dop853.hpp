@@ -19,6 +19,9 @@
 // discrete solution. With solver.sensitivity.error_control they take part in the error test
 // with atol = sensitivity.atol, or atol_i/|p̄_j| as CVODES's CVodeSensEEtolerances.
 //
+// Quadratures (an OdeQuadrature): integrated as components stacked after [y; s] by the same
+// stages, with error control (atol, rtol; their sensitivities like the state sensitivities).
+//
 // Constraints: with a problem that has_projection() (stabilization: projection), the state is
 // projected after every accepted step (every projection_frequency steps), and the first stage
 // of the next step re-evaluated; the sensitivities are not projected during the integration
@@ -42,6 +45,7 @@ namespace kanesens::sim {
 // sensitivity_rhs. Stats: steps, rhs_evals, sens_rhs_evals, error_test_fails, projections,
 // callback_recoverable (rejected non-finite steps), wall_seconds.
 IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& options,
-                                   std::span<const double> output_times, const RecordFn& record);
+                                   std::span<const double> output_times, const RecordFn& record,
+                                   OdeQuadrature* quadrature = nullptr);
 
 }  // namespace kanesens::sim

@@ -20,148 +20,15 @@
 #include <utility>
 #include <vector>
 
+#include "sim/solve/cvodes_callbacks.hpp"
+#include "sim/solve/cvodes_quadrature.hpp"
 #include "sim/solve/sundials_handles.hpp"
 
 namespace kanesens::sim {
 
 namespace {
 
-std::string format_time(double t) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", t);
-  return buf;
-}
-
-// What the trampolines share with the integrator (CVodeSetUserData). Lives inside
-// Integrator::Impl, whose address is stable.
-struct CallbackData {
-  OdeProblem* problem = nullptr;
-  int n = 0;
-  long recoverable = 0;          // callbacks that returned +1
-  std::string callback_message;  // last callback failure (exception or non-finite output)
-  std::string solver_message;    // last error reported by CVODES's error handler
-
-  void reset(OdeProblem* p, int size) {
-    problem = p;
-    n = size;
-    recoverable = 0;
-    callback_message.clear();
-    solver_message.clear();
-  }
-
-  // An exception escaped a callback: keep its message, tell CVODES to stop (−1).
-  int fail(const char* where, double t, const char* what) noexcept {
-    try {
-      callback_message = std::string(where) + " threw at t = " + format_time(t) + ": " + what;
-    } catch (...) {  // out of memory: the status still says what happened
-    }
-    return -1;
-  }
-
-  // Scan a callback's output; a NaN or Inf makes the step fail recoverably (+1), so CVODES
-  // retries with a smaller step; if that keeps happening it gives up with a flag < 0.
-  int check_finite(const char* where, double t, const double* v, long count) noexcept {
-    for (long i = 0; i < count; ++i) {
-      if (!std::isfinite(v[i])) {
-        ++recoverable;
-        try {
-          char buf[160];
-          std::snprintf(buf, sizeof buf,
-                        "%s returned a non-finite value (%g at index %ld) at t = %.10g", where,
-                        v[i], i, t);
-          callback_message = buf;
-        } catch (...) {
-        }
-        return 1;
-      }
-    }
-    return 0;
-  }
-};
-
-CallbackData& data_of(void* user_data) {
-  return *static_cast<CallbackData*>(user_data);
-}
-
-// --- nothrow trampolines: exceptions never cross into C ---
-
-int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept {
-  CallbackData& cb = data_of(user_data);
-  try {
-    double* f = N_VGetArrayPointer(ydot);
-    cb.problem->rhs(t, N_VGetArrayPointer(y), f);
-    return cb.check_finite("rhs", t, f, cb.n);
-  } catch (const std::exception& e) {
-    return cb.fail("rhs", t, e.what());
-  } catch (...) {
-    return cb.fail("rhs", t, "unknown exception");
-  }
-}
-
-int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user_data, N_Vector,
-                   N_Vector, N_Vector) noexcept {
-  CallbackData& cb = data_of(user_data);
-  try {
-    // SUNDenseMatrix storage is column-major and contiguous (leading dimension n).
-    double* jac = SUNDenseMatrix_Data(J);
-    cb.problem->jacobian(t, N_VGetArrayPointer(y), N_VGetArrayPointer(fy), jac);
-    return cb.check_finite("jacobian", t, jac, static_cast<long>(cb.n) * cb.n);
-  } catch (const std::exception& e) {
-    return cb.fail("jacobian", t, e.what());
-  } catch (...) {
-    return cb.fail("jacobian", t, "unknown exception");
-  }
-}
-
-int sens_rhs_trampoline(int /*Ns*/, sunrealtype t, N_Vector y, N_Vector ydot, int iS, N_Vector yS,
-                        N_Vector ySdot, void* user_data, N_Vector, N_Vector) noexcept {
-  CallbackData& cb = data_of(user_data);
-  try {
-    double* sdot = N_VGetArrayPointer(ySdot);
-    cb.problem->sensitivity_rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), iS,
-                                N_VGetArrayPointer(yS), sdot);
-    return cb.check_finite("sensitivity_rhs", t, sdot, cb.n);
-  } catch (const std::exception& e) {
-    return cb.fail("sensitivity_rhs", t, e.what());
-  } catch (...) {
-    return cb.fail("sensitivity_rhs", t, "unknown exception");
-  }
-}
-
-int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
-                    void* user_data) noexcept {
-  CallbackData& cb = data_of(user_data);
-  try {
-    double* c = N_VGetArrayPointer(corr);
-    const int flag = cb.problem->project(t, N_VGetArrayPointer(ycur), c, eps_proj,
-                                         err != nullptr ? N_VGetArrayPointer(err) : nullptr);
-    if (flag != 0) {
-      try {
-        cb.callback_message =
-            "project returned " + std::to_string(flag) + " at t = " + format_time(t);
-      } catch (...) {
-      }
-      if (flag > 0) ++cb.recoverable;
-      return flag;
-    }
-    return cb.check_finite("project", t, c, cb.n);
-  } catch (const std::exception& e) {
-    return cb.fail("project", t, e.what());
-  } catch (...) {
-    return cb.fail("project", t, "unknown exception");
-  }
-}
-
-// CVODES reports errors through this instead of printing them to stderr (thousands of failing
-// samples would flood the terminal). Warnings (error_code > 0, e.g. "t + h = t") are dropped.
-void error_handler(int error_code, const char* /*module*/, const char* function, char* msg,
-                   void* user_data) noexcept {
-  if (error_code >= 0) return;
-  try {
-    data_of(user_data).solver_message = std::string(function) + ": " + msg;
-  } catch (...) {
-  }
-}
+using namespace detail;
 
 int sensitivity_method_flag(SensitivityMethod m) {
   switch (m) {
@@ -191,6 +58,7 @@ struct Integrator::Impl {
   bool built = false;
   int n = 0;
   int ns = 0;
+  int nquad = 0;
   bool projection = false;
 
   // Declared in creation order; release() frees them in reverse (cvode_mem first).
@@ -203,15 +71,23 @@ struct Integrator::Impl {
   NVectorArray yS;
   NonlinearSolverPtr NLS_sens;
   CvodeMemPtr mem;
+  detail::CvodesQuadrature quadrature;  // after mem: its vectors are only CVODES's templates
 
+  NVectorPtr y_out;                       // output interpolated between steps (step-by-step runs)
+  NVectorArray yS_out;
   std::vector<const double*> s_pointers;  // ns pointers into yS, for record()
+  std::vector<const double*> s_out_pointers;  // ns pointers into yS_out
+  std::vector<double*> s_step_pointers;   // ns pointers into yS, for after_step()
   std::vector<double> pbar;               // sensitivity scales of the current problem
   std::vector<int> plist;                 // DQ parameter list of the current problem
   double* dq_p = nullptr;                 // DQ parameter array of the current problem
   std::vector<double> dq_p_saved;         // its values at the start of the run
 
   void release() noexcept {
+    quadrature.release();
     mem.reset();
+    yS_out = NVectorArray();
+    y_out.reset();
     NLS_sens.reset();
     yS = NVectorArray();
     NLS.reset();
@@ -224,8 +100,19 @@ struct Integrator::Impl {
   }
 
   void check_problem(OdeProblem& problem, std::span<const double> times) const;
-  void build(int n_states, int n_sens, bool with_projection, double t0);
-  void reinit(OdeProblem& problem, double t0, double t_end);
+  // Steps one at a time, records the outputs each step passes and restarts where the problem
+  // changes its coordinates (OdeProblem::after_step). Outputs 1.. into `result`.
+  void integrate_stepwise(OdeProblem& problem, std::span<const double> times, const RecordFn& record,
+                          OdeQuadrature* quad, IntegrationResult& result);
+  void fail(IntegrationResult& result, int flag, double t) const {
+    result.status = flag;
+    result.t_fail = t;
+    result.message = cvode_flag_name(flag) + " at t = " + format_time(t);
+    if (!cb.solver_message.empty()) result.message += ": " + cb.solver_message;
+    if (!cb.callback_message.empty()) result.message += "; " + cb.callback_message;
+  }
+  void build(int n_states, int n_sens, bool with_projection, int n_quad, double t0);
+  void reinit(OdeProblem& problem, OdeQuadrature* quad, double t0, double t_end);
   void restore_dq_parameters() noexcept {
     for (std::size_t i = 0; i < dq_p_saved.size(); ++i) dq_p[plist[i]] = dq_p_saved[i];
   }
@@ -278,12 +165,15 @@ void Integrator::Impl::check_problem(OdeProblem& problem, std::span<const double
   }
 }
 
-void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, double t0) {
+void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int n_quad, double t0) {
   release();
   const SolverOptions& o = options;
   ctx = make_context();
   y = make_serial_vector(n_states, ctx.get());
   N_VConst(0.0, y.get());
+  // Fused vector operations: CVODES updates the Ns sensitivity vectors with one call per
+  // operation instead of one per vector (the clones below inherit this).
+  check_flag(N_VEnableFusedOps_Serial(y.get(), SUNTRUE), "N_VEnableFusedOps_Serial");
 
   // create → init
   mem = make_cvode(o.method == Method::bdf ? CV_BDF : CV_ADAMS, ctx.get());
@@ -334,10 +224,20 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, dou
   if (n_sens > 0) {
     yS = NVectorArray(n_sens, y.get());
     for (int i = 0; i < n_sens; ++i) N_VConst(0.0, yS[i]);
-    check_flag(CVodeSensInit1(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
-                              o.sens_rhs == SensitivityRhs::exact ? sens_rhs_trampoline : nullptr,
-                              yS.get()),
-               "CVodeSensInit1");
+    // Exact right-hand sides all at once (one multi-tangent pass), except for staggered1, which
+    // CVODES runs only with the one-at-a-time form.
+    if (o.sens_rhs == SensitivityRhs::exact && o.sensitivity_method != SensitivityMethod::staggered1) {
+      cb.s_in.assign(static_cast<std::size_t>(n_sens), nullptr);
+      cb.s_out.assign(static_cast<std::size_t>(n_sens), nullptr);
+      check_flag(CVodeSensInit(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
+                               sens_rhs_all_trampoline, yS.get()),
+                 "CVodeSensInit");
+    } else {
+      check_flag(CVodeSensInit1(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
+                                o.sens_rhs == SensitivityRhs::exact ? sens_rhs_trampoline : nullptr,
+                                yS.get()),
+                 "CVodeSensInit1");
+    }
     if (o.sens_atol) {
       std::vector<double> abstol_s(static_cast<std::size_t>(n_sens), *o.sens_atol);  // copied
       check_flag(CVodeSensSStolerances(mem.get(), o.rtol, abstol_s.data()),
@@ -373,16 +273,31 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, dou
     }
   }
 
+  // → quadratures (and their sensitivities), after SensInit as CVodeQuadSensInit requires
+  quadrature.build(mem.get(), ctx.get(), n_quad, n_sens, o, cb);
+
+  y_out = make_serial_vector(n_states, ctx.get());
+  N_VConst(0.0, y_out.get());
+  if (n_sens > 0) yS_out = NVectorArray(n_sens, y.get());
   s_pointers.assign(static_cast<std::size_t>(n_sens), nullptr);
-  for (int i = 0; i < n_sens; ++i) s_pointers[static_cast<std::size_t>(i)] = yS.data(i);
+  s_out_pointers.assign(static_cast<std::size_t>(n_sens), nullptr);
+  s_step_pointers.assign(static_cast<std::size_t>(n_sens), nullptr);
+  for (int i = 0; i < n_sens; ++i) {
+    s_pointers[static_cast<std::size_t>(i)] = yS.data(i);
+    s_out_pointers[static_cast<std::size_t>(i)] = yS_out.data(i);
+    s_step_pointers[static_cast<std::size_t>(i)] = yS.data(i);
+  }
   n = n_states;
   ns = n_sens;
+  nquad = n_quad;
   projection = with_projection;
   built = true;
 }
 
-void Integrator::Impl::reinit(OdeProblem& problem, double t0, double t_end) {
+void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, double t0, double t_end) {
   cb.reset(&problem, n);
+  cb.quadrature = quad;
+  cb.nquad = nquad;
   problem.initial_state(N_VGetArrayPointer(y.get()));
   check_flag(CVodeReInit(mem.get(), t0, y.get()), "CVodeReInit");
   dq_p = nullptr;
@@ -407,8 +322,67 @@ void Integrator::Impl::reinit(OdeProblem& problem, double t0, double t_end) {
                                   plist.empty() ? nullptr : plist.data()),
                "CVodeSetSensParams");
   }
+  quadrature.reinit(mem.get());
   // Never step past the last output (a model's forcing may be defined only up to t_end).
   check_flag(CVodeSetStopTime(mem.get(), t_end), "CVodeSetStopTime");
+}
+
+void Integrator::Impl::integrate_stepwise(OdeProblem& problem, std::span<const double> times, const RecordFn& record,
+                                          OdeQuadrature* quad, IntegrationResult& result) {
+  void* m = mem.get();
+  double* yv = N_VGetArrayPointer(y.get());
+  const double* const* s_out = ns > 0 ? s_out_pointers.data() : nullptr;
+  double* const* s_step = ns > 0 ? s_step_pointers.data() : nullptr;
+  SolverStats before;  // counters of the segments before the last restart (CVodeReInit resets them)
+  std::size_t k = 1;
+  double t = times.front();
+  while (k < times.size()) {
+    long steps = 0;
+    check_flag(CVodeGetNumSteps(m, &steps), "CVodeGetNumSteps");
+    if (before.steps + steps >= options.max_steps) {
+      result.status = CV_TOO_MUCH_WORK;
+      result.t_fail = t;
+      result.message = "CV_TOO_MUCH_WORK at t = " + format_time(t) + ": max_steps = " +
+                       std::to_string(options.max_steps) + " steps taken before reaching t = " + format_time(times[k]);
+      break;
+    }
+    const int flag = CVode(m, times.back(), y.get(), &t, CV_ONE_STEP);
+    if (flag < 0) {
+      fail(result, flag, t);
+      break;
+    }
+    for (; k < times.size() && times[k] <= t; ++k) {
+      check_flag(CVodeGetDky(m, times[k], 0, y_out.get()), "CVodeGetDky");
+      for (int i = 0; i < ns; ++i) check_flag(CVodeGetSensDky1(m, times[k], 0, i, yS_out[i]), "CVodeGetSensDky1");
+      record(static_cast<int>(k), times[k], N_VGetArrayPointer(y_out.get()), s_out);
+      if (quad) quadrature.record_interpolated(m, *quad, static_cast<int>(k), times[k]);
+      ++result.outputs_recorded;
+    }
+    if (k == times.size()) break;
+    if (ns > 0) {
+      double ts = 0;
+      check_flag(CVodeGetSens(m, &ts, yS.get()), "CVodeGetSens");
+    }
+    bool changed = false;
+    try {
+      changed = problem.after_step(t, yv, s_step);
+    } catch (const std::exception& e) {
+      result.status = CV_RHSFUNC_FAIL;
+      result.t_fail = t;
+      result.message = cvode_flag_name(CV_RHSFUNC_FAIL) + " at t = " + format_time(t) + ": " + e.what();
+      break;
+    }
+    if (!changed) continue;
+    before += collect_stats();
+    ++before.repartitions;
+    if (quad) quadrature.save(m, t);
+    check_flag(CVodeReInit(m, t, y.get()), "CVodeReInit");
+    if (ns > 0)
+      check_flag(CVodeSensReInit(m, sensitivity_method_flag(options.sensitivity_method), yS.get()), "CVodeSensReInit");
+    if (quad) quadrature.restart(m);
+    check_flag(CVodeSetStopTime(m, times.back()), "CVodeSetStopTime");
+  }
+  result.stats = before;
 }
 
 SolverStats Integrator::Impl::collect_stats() const {
@@ -451,9 +425,10 @@ const SolverOptions& Integrator::options() const {
 }
 
 IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const double> times,
-                                        const RecordFn& record) {
+                                        const RecordFn& record, OdeQuadrature* quad) {
   // The explicit method has no CVODES objects; it shares the options, result and record().
-  if (impl_->options.method == Method::dop853) return integrate_dop853(problem, impl_->options, times, record);
+  if (impl_->options.method == Method::dop853)
+    return integrate_dop853(problem, impl_->options, times, record, quad);
   const auto start = std::chrono::steady_clock::now();
   Impl& im = *impl_;
   im.check_problem(problem, times);
@@ -461,10 +436,11 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   const int n_states = problem.size();
   const int n_sens = problem.num_sensitivities();
   const bool with_projection = problem.has_projection();
-  if (!im.built || im.n != n_states || im.ns != n_sens || im.projection != with_projection) {
-    im.build(n_states, n_sens, with_projection, times.front());
+  const int n_quad = quad ? quad->size() : 0;
+  if (!im.built || im.n != n_states || im.ns != n_sens || im.projection != with_projection || im.nquad != n_quad) {
+    im.build(n_states, n_sens, with_projection, n_quad, times.front());
   }
-  im.reinit(problem, times.front(), times.back());
+  im.reinit(problem, quad, times.front(), times.back());
 
   // Restore CVODES's DQ perturbations of the problem's parameters however we leave.
   struct RestoreGuard {
@@ -478,10 +454,21 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   const double* const* s = n_sens > 0 ? im.s_pointers.data() : nullptr;
 
   record(0, times[0], y, s);
+  if (quad) im.quadrature.record(m, *quad, 0, times[0]);
   result.outputs_recorded = 1;
   result.status = 1;
   result.t_fail = std::numeric_limits<double>::quiet_NaN();
 
+  if (problem.has_step_check()) {
+    im.integrate_stepwise(problem, times, record, quad, result);
+    const SolverStats earlier = result.stats;
+    result.stats = im.collect_stats();
+    result.stats += earlier;
+    result.stats.callback_recoverable = im.cb.recoverable;  // ours: not reset by CVodeReInit
+    result.stats.wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  }
   for (std::size_t k = 1; k < times.size(); ++k) {
     const double tout = times[k];
     long steps = 0;
@@ -502,15 +489,12 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
     check_flag(CVodeSetMaxNumSteps(m, remaining > 0 ? remaining : 1), "CVodeSetMaxNumSteps");
     const int flag = CVode(m, tout, im.y.get(), &t_reached, CV_NORMAL);
     if (flag < 0) {
-      result.status = flag;
-      result.t_fail = t_reached;
-      result.message = cvode_flag_name(flag) + " at t = " + format_time(t_reached);
-      if (!im.cb.solver_message.empty()) result.message += ": " + im.cb.solver_message;
-      if (!im.cb.callback_message.empty()) result.message += "; " + im.cb.callback_message;
+      im.fail(result, flag, t_reached);
       break;
     }
     if (n_sens > 0) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
     record(static_cast<int>(k), tout, y, s);
+    if (quad) im.quadrature.record(m, *quad, static_cast<int>(k), tout);
     ++result.outputs_recorded;
   }
 
@@ -520,10 +504,29 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   return result;
 }
 
+SolverStats& SolverStats::operator+=(const SolverStats& o) {
+  steps += o.steps;
+  rhs_evals += o.rhs_evals;
+  jac_evals += o.jac_evals;
+  lin_rhs_evals += o.lin_rhs_evals;
+  nonlin_iters += o.nonlin_iters;
+  nonlin_conv_fails += o.nonlin_conv_fails;
+  error_test_fails += o.error_test_fails;
+  sens_rhs_evals += o.sens_rhs_evals;
+  rhs_evals_for_sens += o.rhs_evals_for_sens;
+  sens_error_test_fails += o.sens_error_test_fails;
+  sens_nonlin_iters += o.sens_nonlin_iters;
+  projections += o.projections;
+  callback_recoverable += o.callback_recoverable;
+  repartitions += o.repartitions;
+  wall_seconds += o.wall_seconds;
+  return *this;
+}
+
 IntegrationResult integrate(OdeProblem& problem, const SolverOptions& options,
-                            std::span<const double> output_times, const RecordFn& record) {
+                            std::span<const double> output_times, const RecordFn& record, OdeQuadrature* quad) {
   Integrator integrator(options);
-  return integrator.integrate(problem, output_times, record);
+  return integrator.integrate(problem, output_times, record, quad);
 }
 
 std::string sundials_version() {

@@ -18,7 +18,9 @@
 // y (n) and s[i] (n) = ∂y/∂p_i for i < ns (s == nullptr when ns = 0). Output 0 is the initial
 // state at t0 = times[0] (no integration). The pointers are valid only during the call.
 // CVODES steps with its own step sizes and interpolates at each t (CV_NORMAL); it never
-// evaluates the RHS past the last output time (CVodeSetStopTime).
+// evaluates the RHS past the last output time (CVodeSetStopTime). A problem that
+// has_step_check() is stepped one step at a time (CV_ONE_STEP, outputs by CVodeGetDky and
+// CVodeGetSensDky) and restarted where after_step() changes its coordinates.
 //
 // Errors: a solver failure (CVODES flag < 0, including a callback that threw) returns a result
 // with status < 0. Exceptions thrown by initial_state, initial_sensitivity, sensitivity_scales,
@@ -52,7 +54,11 @@ struct SolverStats {
   long sens_nonlin_iters = 0;      // CVodeGetSensNumNonlinSolvIters (staggered methods)
   long projections = 0;            // CVodeGetNumProjEvals
   long callback_recoverable = 0;   // callbacks that returned +1 (non-finite output)
+  long repartitions = 0;           // restarts in new coordinates (OdeProblem::after_step)
   double wall_seconds = 0;         // wall-clock time of integrate(), setup included
+
+  // Adds the counters of another segment of the same integration (a restart resets CVODES's).
+  SolverStats& operator+=(const SolverStats& o);
 };
 
 struct IntegrationResult {
@@ -80,9 +86,11 @@ class Integrator {
   Integrator(const Integrator&) = delete;
   Integrator& operator=(const Integrator&) = delete;
 
-  // output_times: at least one, strictly increasing, finite. See the file comment.
+  // output_times: at least one, strictly increasing, finite. See the file comment. `quadrature`
+  // (optional): integrals computed alongside (ode_problem.hpp), handed to its record() after each
+  // record() call.
   IntegrationResult integrate(OdeProblem& problem, std::span<const double> output_times,
-                              const RecordFn& record);
+                              const RecordFn& record, OdeQuadrature* quadrature = nullptr);
 
   const SolverOptions& options() const;
 
@@ -93,7 +101,8 @@ class Integrator {
 
 // One-shot convenience: Integrator(options).integrate(problem, output_times, record).
 IntegrationResult integrate(OdeProblem& problem, const SolverOptions& options,
-                            std::span<const double> output_times, const RecordFn& record);
+                            std::span<const double> output_times, const RecordFn& record,
+                            OdeQuadrature* quadrature = nullptr);
 
 // "6.4.1": the SUNDIALS this build links.
 std::string sundials_version();

@@ -14,11 +14,22 @@
 // CVODES's own vectors and must neither allocate nor keep the pointers. They may throw: the
 // integrator's nothrow trampolines catch the exception, keep its message, and make CVODES stop
 // (return −1). A non-finite value written into ydot, J or sdot is caught by the trampoline too
-// and reported to CVODES as a recoverable failure (+1: it retries with a smaller step).
+// and reported to CVODES as a recoverable failure (+1: it retries with a smaller step), and so
+// is a RecoverableError: the state of a trial step where the equations cannot be solved (a
+// singular mass matrix), which a smaller step may avoid.
 #pragma once
+#include <stdexcept>
 #include <vector>
 
 namespace kanesens::sim {
+
+// Thrown by rhs, jacobian or sensitivity_rhs when f cannot be evaluated at this (t, y) but may
+// be at a nearby one: the integrator retries the step with a smaller one (CVODES's recoverable
+// +1; DOP853 likewise), and reports this message if that does not help.
+class RecoverableError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 class OdeProblem {
  public:
@@ -50,6 +61,22 @@ class OdeProblem {
   virtual void sensitivity_rhs(double /*t*/, const double* /*y*/, const double* /*ydot*/, int /*i*/,
                                const double* /*s*/, double* /*sdot*/) {}
 
+  // All sensitivity right-hand sides at once: sdot[i] (n) = J s[i] + ∂f/∂p_i for i < ns (CVODES's
+  // CVodeSensInit; DOP853). The default calls sensitivity_rhs for each i; a problem that shares
+  // work between directions overrides it.
+  virtual void sensitivity_rhs_all(double t, const double* y, const double* ydot, int ns, const double* const* s,
+                                   double* const* sdot) {
+    for (int i = 0; i < ns; ++i) sensitivity_rhs(t, y, ydot, i, s[i], sdot[i]);
+  }
+  // ydot = f(t, y) and all sensitivity right-hand sides together (DOP853's stages). The default
+  // calls rhs, then sensitivity_rhs_all; a problem whose sensitivity pass yields f as a by-product
+  // overrides it (f may then differ from rhs() in the last bits: the order of operations).
+  virtual void rhs_with_sensitivities(double t, const double* y, int ns, const double* const* s, double* ydot,
+                                      double* const* sdot) {
+    rhs(t, y, ydot);
+    if (ns > 0) sensitivity_rhs_all(t, y, ydot, ns, s, sdot);
+  }
+
   // Scale of each sensitivity parameter, |p̄_i| > 0 (ns entries; empty = all 1). CVODES uses
   // it (CVodeSetSensParams pbar) for the default sensitivity tolerances, atol_S = atol/|p̄_i|
   // (CVodeSensEEtolerances), and for the size of its difference-quotient increments. Usually
@@ -72,11 +99,43 @@ class OdeProblem {
   // local error estimate; when not null, overwrite it with its projection (P err). Return 0 on
   // success, > 0 for a recoverable failure (CVODES retries with a smaller step), < 0 fatal.
   // NOTE: combining projection with sensitivities is experimental; see docs/solve.md.
+  // Coordinates that change between steps (the embedding re-choosing its independent speeds,
+  // docs/constraints.md). When has_step_check(), the integrator calls after_step after every
+  // accepted step (and projection) that does not end the integration, with the step's state y
+  // (n) and sensitivities s[i] (n each; s == nullptr when ns = 0). A problem that changes the
+  // meaning of its state rewrites y and s in place (same n) and returns true; the integrator
+  // then restarts from (t, y, s) (CVodeReInit and CVodeSensReInit; DOP853 re-evaluates its first
+  // stage) and counts it (SolverStats::repartitions). Outputs are recorded in the coordinates
+  // of the moment (CVODES records those it interpolates before t first). An exception fails the
+  // integration with its message.
+  virtual bool has_step_check() const { return false; }
+  virtual bool after_step(double /*t*/, double* /*y*/, double* const* /*s*/) { return false; }
+
   virtual bool has_projection() const { return false; }
   virtual int project(double /*t*/, const double* /*y*/, double* /*corr*/, double /*eps_proj*/,
                       double* /*err*/) {
     return 0;
   }
+};
+
+// Integrals computed alongside an OdeProblem (quadratures): Q(t) = ∫_{t0}^{t} g(τ, y(τ)) dτ with
+// nq = size() components, and, when the problem has forward sensitivities, their sensitivities
+// QS_i(t) = ∫ (∂g/∂y s_i + ∂g/∂p_i) dτ. CVODES integrates them as quadratures (CVodeQuadInit,
+// CVodeQuadSensInit), DOP853 as extra components stacked after [y; s]; both include them in the
+// local error test with the solver's rtol and atol (QS: the sensitivity tolerances and
+// error-control setting). Q(t0) = 0, QS_i(t0) = 0. The hot-path rules of OdeProblem apply: rhs
+// and sensitivity_rhs neither allocate nor keep the pointers; they may throw (the sample fails).
+class OdeQuadrature {
+ public:
+  virtual ~OdeQuadrature() = default;
+  virtual int size() const = 0;
+  // qdot (size()) = g(t, y); y is the problem's state (problem.size()).
+  virtual void rhs(double t, const double* y, double* qdot) = 0;
+  // qsdot[i] (size()) = ∂g/∂y s[i] + ∂g/∂p_i for i < ns (s[i]: the problem's sensitivity i).
+  virtual void sensitivity_rhs(double t, const double* y, int ns, const double* const* s, double* const* qsdot) = 0;
+  // At output k (the same calls as the RecordFn, after it): Q(t) and QS_i(t) (qs = nullptr when
+  // there are no sensitivities). The pointers are valid only during the call.
+  virtual void record(int k, double t, const double* q, const double* const* qs) = 0;
 };
 
 }  // namespace kanesens::sim

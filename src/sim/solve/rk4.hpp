@@ -1,5 +1,5 @@
 // The classical fixed-step Runge–Kutta method of order 4, on the same OdeProblem as CVODES.
-// A baseline for work-precision diagrams (`kanesens bench workprecision`): no error control,
+// A baseline for work-precision diagrams (`kanesens-workprecision`): no error control,
 // no Jacobian, so it shows where an explicit method stops being usable (a stiff spring makes
 // h·λ leave RK4's stability region, |hλ| ≲ 2.8 on the imaginary axis, and the solution grows
 // without bound).

@@ -1,0 +1,131 @@
+#!/usr/bin/python3
+"""Cost of forward sensitivities: `kanesens simulate` with and without Ns sensitivities.
+
+  sensitivity_cost.py OUT.json LABEL=EXE [LABEL=EXE ...] [--runs K] [--scenes a,b]
+  sensitivity_cost.py --table OUT.json
+
+For every scene, method and executable: K runs of the plain solve and K runs with the Ns
+sensitivities, all interleaved (plain, sens, next executable, ...) so that machine load hits
+every configuration alike; the figure per configuration is the minimum and the median of
+stats.wall_seconds (the integration itself). Cost per added sensitivity =
+(t_sens − t_plain) / (Ns · t_plain), from the minima. Raw times go to OUT.json.
+"""
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+
+# name: (study text, sensitivities, methods)
+SCENES = {
+    "chain4_planar": ("""kanesens: 1
+scene: {root}/configs/nlink_chain_4.yaml
+time: {{end: 2.0, outputs: 21}}
+solver: {{rtol: 1.0e-8, atol: 1.0e-10}}
+""", "m,L,c,j1.q0,j2.q0,j1.u0", ["bdf", "dop853"]),
+    "arm_3d": ("""kanesens: 1
+scene: {root}/configs/arm_3d.yaml
+time: {{end: 5.0, outputs: 51}}
+solver: {{rtol: 1.0e-8, atol: 1.0e-10}}
+""", "m1,m2,m3,k_tele,c_tele,wrist.q0[0]", ["bdf", "dop853"]),
+    "four_bar_multipliers": ("""kanesens: 1
+scene: {root}/configs/four_bar.yaml
+time: {{end: 3.0, outputs: 31}}
+solver: {{rtol: 1.0e-8, atol: 1.0e-10,
+         constraints: {{formulation: multipliers, stabilization: projection, correct_initial: true}}}}
+""", "r,c,b,m1,m2,m3", ["bdf", "dop853"]),
+    "four_bar_embedding": ("""kanesens: 1
+scene: {root}/configs/four_bar.yaml
+time: {{end: 3.0, outputs: 31}}
+solver: {{rtol: 1.0e-8, atol: 1.0e-10,
+         constraints: {{formulation: embedding, stabilization: projection, correct_initial: true}}}}
+""", "r,c,b,m1,m2,m3", ["bdf", "dop853"]),
+    "rolling_disc": ("""kanesens: 1
+scene: {root}/configs/rolling_disc.yaml
+time: {{end: 2.0, outputs: 21}}
+solver: {{rtol: 1.0e-9, atol: 1.0e-11, constraints: {{formulation: multipliers, stabilization: baumgarte}}}}
+""", "m,r,base.u0[0],base.u0[4],base.u0[5],base.q0[4]", ["bdf", "dop853"]),
+}
+
+
+def run(exe, study, method, sens, extra):
+    args = [exe, "simulate", study, "--set", f"solver.method={method}", "--sens", sens] + extra
+    p = subprocess.run(args, capture_output=True, text=True)
+    d = json.loads(p.stdout)
+    if d["status"] != 1:
+        raise RuntimeError(f"{exe} {method} {sens}: {d.get('message')}")
+    return d["stats"]["wall_seconds"], d["stats"]
+
+
+def measure(out, exes, runs, scenes, extra):
+    result = {"runs": runs, "rows": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in scenes:
+            text, sens, methods = SCENES[name]
+            study = os.path.join(tmp, name + ".yaml")
+            with open(study, "w") as f:
+                f.write(text.format(root=ROOT))
+            for method in methods:
+                times = {label: {"plain": [], "sens": []} for label, _ in exes}
+                stats = {}
+                for _ in range(runs):
+                    for label, exe in exes:
+                        for kind, s in (("plain", "none"), ("sens", sens)):
+                            w, st = run(exe, study, method, s, extra)
+                            times[label][kind].append(w)
+                            stats[(label, kind)] = st
+                for label, _ in exes:
+                    row = {"scene": name, "method": method, "exe": label, "ns": len(sens.split(",")),
+                           "sensitivities": sens, "plain_s": times[label]["plain"], "sens_s": times[label]["sens"],
+                           "stats_plain": stats[(label, "plain")], "stats_sens": stats[(label, "sens")]}
+                    result["rows"].append(row)
+                    print(name, method, label, f"{min(row['plain_s'])*1e3:.2f} ms",
+                          f"{per_added(row):.2f}", file=sys.stderr)
+    with open(out, "w") as f:
+        json.dump(result, f, indent=1)
+
+
+def per_added(row, pick=min):
+    tp, ts = pick(row["plain_s"]), pick(row["sens_s"])
+    return (ts - tp) / (row["ns"] * tp)
+
+
+def table(path):
+    with open(path) as f:
+        r = json.load(f)
+    print(f"Minimum (median) of {r['runs']} interleaved runs; per added sensitivity = "
+          "(t_sens − t_plain) / (Ns · t_plain).\n")
+    print("| scene | method | build | plain solve (ms) | with Ns sensitivities (ms) | per added sensitivity | steps plain / sens |")
+    print("|---|---|---|---:|---:|---:|---:|")
+    for row in r["rows"]:
+        tp, ts = row["plain_s"], row["sens_s"]
+        print(f"| {row['scene']} | {row['method']} | {row['exe']} | {min(tp)*1e3:.2f} ({statistics.median(tp)*1e3:.2f}) | "
+              f"{min(ts)*1e3:.2f} ({statistics.median(ts)*1e3:.2f}) | {per_added(row):.2f}x ({per_added(row, statistics.median):.2f}x) | "
+              f"{row['stats_plain']['steps']} / {row['stats_sens']['steps']} |")
+
+
+if __name__ == "__main__":
+    argv = sys.argv[1:]
+    if len(argv) == 2 and argv[0] == "--table":
+        table(argv[1])
+        sys.exit(0)
+    if len(argv) < 2:
+        sys.exit(__doc__)
+    runs, scenes, extra = 7, list(SCENES), []
+    out, rest = argv[0], []
+    i = 1
+    while i < len(argv):
+        if argv[i] == "--runs":
+            runs = int(argv[i + 1]); i += 2
+        elif argv[i] == "--scenes":
+            scenes = argv[i + 1].split(","); i += 2
+        elif argv[i] == "--set":
+            extra += ["--set", argv[i + 1]]; i += 2
+        else:
+            rest.append(argv[i]); i += 1
+    exes = [tuple(a.split("=", 1)) for a in rest]
+    measure(out, exes, runs, scenes, extra)
+    table(out)

@@ -1,0 +1,237 @@
+// Multi-tangent dual numbers: x = v + Σ_i d_i ε_i with ε_i ε_j = 0 — one value and N tangents,
+// N fixed at compile time. Evaluating the templated dynamics on MultiDual<N> gives f and N
+// directional derivatives in one pass: the value work (kinematics, M, f) is done once and each
+// tangent adds one multiply-add per operation. More directions than a compiled width are done
+// in blocks of passes, so no width needs the heap. DualT<MultiDual<N>> nests for the second
+// derivatives of general constraints.
+//
+// Why hand-written (bench/multitangent_kernels.cpp measures it against ceres::Jet and Eigen's
+// AutoDiffScalar): the tangents are stored first, as 16-byte packs, and every operation is forced
+// inline, so the compiler keeps them in vector registers and never reloads a pack from two scalar
+// stores (a stalled store-to-load forward); the library types lose 2-10x at N ≥ 4 to exactly that.
+// Eigen is told the operations are expensive so that it keeps its reductions as loops (unrolled
+// reductions call Eigen's functors out of line).
+#pragma once
+#include <Eigen/Core>
+#include <cmath>
+#include <cstddef>
+
+#define KANESENS_MD_INLINE [[gnu::always_inline]] inline
+
+namespace kanesens::math {
+
+template <int N>
+struct MultiDual {
+  static_assert(N >= 1, "at least one tangent");
+  // Tangents travel in packs of `lanes` doubles (GCC/Clang vector extension): one SIMD register
+  // (4 with AVX, 2 with SSE2). 8-byte aligned so that the struct has no padding (GCC copies
+  // padding through the stack, which stalls the next load of the value).
+#ifdef __AVX__
+  static constexpr int lanes = 4;
+#else
+  static constexpr int lanes = 2;
+#endif
+  using Pack = double __attribute__((vector_size(8 * lanes), aligned(8)));
+  static constexpr int tangents = N;
+  static constexpr int packs = (N + lanes - 1) / lanes;  // unused lanes of the last pack stay 0
+
+  // Default construction leaves both uninitialised, as for double (Eigen default-constructs
+  // its fixed-size temporaries; zero-filling them cost more than the arithmetic).
+  Pack t[packs];  // tangents: t[k] holds d_{lanes·k} … d_{lanes·k + lanes − 1}
+  double v;       // value
+
+  MultiDual() = default;
+  KANESENS_MD_INLINE constexpr MultiDual(double value) : t{}, v(value) {}  // NOLINT: implicit from constants is intended
+
+  KANESENS_MD_INLINE double d(int i) const { return t[i / lanes][i % lanes]; }
+  KANESENS_MD_INLINE void set_d(int i, double x) { t[i / lanes][i % lanes] = x; }
+  // Tangent i = tangent_i(i) for i < count ≤ N, the rest 0; written a pack at a time (a pack
+  // assembled from two scalar stores would stall its next vector load).
+  template <class F>
+  KANESENS_MD_INLINE void set_tangents(F&& tangent_i, int count) {
+    for (int k = 0; k < packs; ++k) {
+      Pack p = {};
+      for (int l = 0; l < lanes; ++l) {
+        const int i = lanes * k + l;
+        p[l] = i < count ? tangent_i(i) : 0.0;
+      }
+      t[k] = p;
+    }
+  }
+  // Tangents −= a's tangents · s (the tangent right-hand sides of a reused factorisation).
+  KANESENS_MD_INLINE void subtract_tangents(const MultiDual& a, double s) {
+    for (int k = 0; k < packs; ++k) t[k] -= a.t[k] * s;
+  }
+  // Value with tangent 1 in direction i and 0 in the others (seeding an input).
+  static MultiDual seeded(double value, int i) {
+    MultiDual x(value);
+    x.set_d(i, 1.0);
+    return x;
+  }
+
+  KANESENS_MD_INLINE MultiDual& operator+=(const MultiDual& o) {
+    v += o.v;
+    for (int k = 0; k < packs; ++k) t[k] += o.t[k];
+    return *this;
+  }
+  KANESENS_MD_INLINE MultiDual& operator-=(const MultiDual& o) {
+    v -= o.v;
+    for (int k = 0; k < packs; ++k) t[k] -= o.t[k];
+    return *this;
+  }
+  KANESENS_MD_INLINE MultiDual& operator*=(const MultiDual& o) {
+    for (int k = 0; k < packs; ++k) t[k] = t[k] * o.v + v * o.t[k];
+    v *= o.v;
+    return *this;
+  }
+  KANESENS_MD_INLINE MultiDual& operator/=(const MultiDual& o) {
+    const double inv = 1.0 / o.v;
+    v *= inv;
+    for (int k = 0; k < packs; ++k) t[k] = (t[k] - v * o.t[k]) * inv;
+    return *this;
+  }
+  KANESENS_MD_INLINE MultiDual& operator+=(double s) { v += s; return *this; }
+  KANESENS_MD_INLINE MultiDual& operator-=(double s) { v -= s; return *this; }
+  KANESENS_MD_INLINE MultiDual& operator*=(double s) {
+    v *= s;
+    for (int k = 0; k < packs; ++k) t[k] *= s;
+    return *this;
+  }
+  KANESENS_MD_INLINE MultiDual& operator/=(double s) { return *this *= (1.0 / s); }
+};
+
+template <int N> KANESENS_MD_INLINE MultiDual<N> operator+(MultiDual<N> a, const MultiDual<N>& b) { return a += b; }
+template <int N> KANESENS_MD_INLINE MultiDual<N> operator-(MultiDual<N> a, const MultiDual<N>& b) { return a -= b; }
+template <int N>
+KANESENS_MD_INLINE MultiDual<N> operator*(const MultiDual<N>& a, const MultiDual<N>& b) {
+  MultiDual<N> r;  // every member is written below
+  r.v = a.v * b.v;
+  for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = a.t[k] * b.v + a.v * b.t[k];
+  return r;
+}
+template <int N> KANESENS_MD_INLINE MultiDual<N> operator/(MultiDual<N> a, const MultiDual<N>& b) { return a /= b; }
+template <int N> KANESENS_MD_INLINE MultiDual<N> operator+(MultiDual<N> a, double b) { return a += b; }
+template <int N> KANESENS_MD_INLINE MultiDual<N> operator+(double a, MultiDual<N> b) { return b += a; }
+template <int N> KANESENS_MD_INLINE MultiDual<N> operator-(MultiDual<N> a, double b) { return a -= b; }
+template <int N>
+KANESENS_MD_INLINE MultiDual<N> operator-(double a, const MultiDual<N>& b) {
+  MultiDual<N> r;
+  r.v = a - b.v;
+  for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = -b.t[k];
+  return r;
+}
+template <int N> KANESENS_MD_INLINE MultiDual<N> operator*(MultiDual<N> a, double b) { return a *= b; }
+template <int N> KANESENS_MD_INLINE MultiDual<N> operator*(double a, MultiDual<N> b) { return b *= a; }
+template <int N> KANESENS_MD_INLINE MultiDual<N> operator/(MultiDual<N> a, double b) { return a /= b; }
+template <int N>
+KANESENS_MD_INLINE MultiDual<N> operator/(double a, const MultiDual<N>& b) {
+  MultiDual<N> r;
+  const double inv = 1.0 / b.v;
+  r.v = a * inv;
+  const double k = -r.v * inv;
+  for (int i = 0; i < MultiDual<N>::packs; ++i) r.t[i] = k * b.t[i];
+  return r;
+}
+template <int N>
+KANESENS_MD_INLINE MultiDual<N> operator-(const MultiDual<N>& a) {
+  MultiDual<N> r;
+  r.v = -a.v;
+  for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = -a.t[k];
+  return r;
+}
+template <int N> KANESENS_MD_INLINE MultiDual<N> operator+(const MultiDual<N>& a) { return a; }
+
+// Comparisons look at the value only: branches follow the value.
+template <int N> KANESENS_MD_INLINE bool operator==(const MultiDual<N>& a, const MultiDual<N>& b) { return a.v == b.v; }
+template <int N> KANESENS_MD_INLINE bool operator!=(const MultiDual<N>& a, const MultiDual<N>& b) { return a.v != b.v; }
+template <int N> KANESENS_MD_INLINE bool operator<(const MultiDual<N>& a, const MultiDual<N>& b) { return a.v < b.v; }
+template <int N> KANESENS_MD_INLINE bool operator>(const MultiDual<N>& a, const MultiDual<N>& b) { return a.v > b.v; }
+template <int N> KANESENS_MD_INLINE bool operator<=(const MultiDual<N>& a, const MultiDual<N>& b) { return a.v <= b.v; }
+template <int N> KANESENS_MD_INLINE bool operator>=(const MultiDual<N>& a, const MultiDual<N>& b) { return a.v >= b.v; }
+
+template <class S> inline constexpr bool is_multi_dual_v = false;
+template <int N> inline constexpr bool is_multi_dual_v<MultiDual<N>> = true;
+
+template <int N> KANESENS_MD_INLINE double value_of(const MultiDual<N>& x) { return x.v; }
+template <int N> KANESENS_MD_INLINE double tangent(const MultiDual<N>& x, int i) { return x.d(i); }
+
+namespace multi_dual_detail {
+// f(a) from f(a.v) and f'(a.v): the chain rule on every tangent.
+template <int N>
+KANESENS_MD_INLINE MultiDual<N> chain(double f, double df, const MultiDual<N>& a) {
+  MultiDual<N> r;
+  r.v = f;
+  for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = df * a.t[k];
+  return r;
+}
+}  // namespace multi_dual_detail
+
+template <int N> MultiDual<N> sin(const MultiDual<N>& a) { return multi_dual_detail::chain(std::sin(a.v), std::cos(a.v), a); }
+template <int N> MultiDual<N> cos(const MultiDual<N>& a) { return multi_dual_detail::chain(std::cos(a.v), -std::sin(a.v), a); }
+template <int N>
+MultiDual<N> tan(const MultiDual<N>& a) {
+  const double t = std::tan(a.v);
+  return multi_dual_detail::chain(t, 1 + t * t, a);
+}
+template <int N> MultiDual<N> asin(const MultiDual<N>& a) { return multi_dual_detail::chain(std::asin(a.v), 1 / std::sqrt(1 - a.v * a.v), a); }
+template <int N> MultiDual<N> acos(const MultiDual<N>& a) { return multi_dual_detail::chain(std::acos(a.v), -1 / std::sqrt(1 - a.v * a.v), a); }
+template <int N> MultiDual<N> atan(const MultiDual<N>& a) { return multi_dual_detail::chain(std::atan(a.v), 1 / (1 + a.v * a.v), a); }
+template <int N>
+MultiDual<N> atan2(const MultiDual<N>& y, const MultiDual<N>& x) {
+  const double inv = 1 / (x.v * x.v + y.v * y.v), cy = x.v * inv, cx = -y.v * inv;
+  MultiDual<N> r;
+  r.v = std::atan2(y.v, x.v);
+  for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = cy * y.t[k] + cx * x.t[k];
+  return r;
+}
+template <int N>
+MultiDual<N> exp(const MultiDual<N>& a) {
+  const double e = std::exp(a.v);
+  return multi_dual_detail::chain(e, e, a);
+}
+template <int N> MultiDual<N> log(const MultiDual<N>& a) { return multi_dual_detail::chain(std::log(a.v), 1 / a.v, a); }
+template <int N>
+MultiDual<N> sqrt(const MultiDual<N>& a) {
+  const double s = std::sqrt(a.v);
+  // The derivative at 0 is taken as 0, as DualT does (|x| at its kink).
+  return multi_dual_detail::chain(s, s > 0 ? 0.5 / s : 0.0, a);
+}
+template <int N> MultiDual<N> abs(const MultiDual<N>& a) { return multi_dual_detail::chain(std::abs(a.v), a.v < 0 ? -1.0 : 1.0, a); }
+template <int N>
+MultiDual<N> pow(const MultiDual<N>& a, const MultiDual<N>& b) {
+  const double p = std::pow(a.v, b.v);
+  MultiDual<N> r = multi_dual_detail::chain(p, b.v * std::pow(a.v, b.v - 1), a);
+  if (a.v > 0) {
+    const double db = p * std::log(a.v);
+    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] += db * b.t[k];
+  }
+  return r;
+}
+template <int N> MultiDual<N> min(const MultiDual<N>& a, const MultiDual<N>& b) { return a.v <= b.v ? a : b; }
+template <int N> MultiDual<N> max(const MultiDual<N>& a, const MultiDual<N>& b) { return a.v >= b.v ? a : b; }
+template <int N>
+bool isfinite(const MultiDual<N>& a) {
+  bool ok = std::isfinite(a.v);
+  for (int i = 0; i < N; ++i) ok = ok && std::isfinite(a.d(i));
+  return ok;
+}
+
+}  // namespace kanesens::math
+
+namespace Eigen {
+template <int N>
+struct NumTraits<kanesens::math::MultiDual<N>> : NumTraits<double> {
+  using Real = kanesens::math::MultiDual<N>;
+  using NonInteger = Real;
+  using Nested = Real;
+  using Literal = Real;
+  // Up to 4 tangents Eigen may unroll small fixed-size reductions (it pays); wider, HugeCost
+  // keeps them as loops (see the file comment).
+  enum { IsComplex = 0, IsInteger = 0, IsSigned = 1, RequireInitialization = 1, ReadCost = 1,
+         AddCost = N <= 4 ? N + 1 : int(HugeCost), MulCost = N <= 4 ? 2 * N + 1 : int(HugeCost) };
+};
+template <int N, typename BinaryOp>
+struct ScalarBinaryOpTraits<kanesens::math::MultiDual<N>, double, BinaryOp> { using ReturnType = kanesens::math::MultiDual<N>; };
+template <int N, typename BinaryOp>
+struct ScalarBinaryOpTraits<double, kanesens::math::MultiDual<N>, BinaryOp> { using ReturnType = kanesens::math::MultiDual<N>; };
+}  // namespace Eigen

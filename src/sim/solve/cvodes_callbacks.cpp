@@ -1,0 +1,120 @@
+#include "sim/solve/cvodes_callbacks.hpp"
+
+#include <exception>
+
+namespace kanesens::sim::detail {
+
+std::string format_time(double t) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", t);
+  return buf;
+}
+
+
+int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    double* f = N_VGetArrayPointer(ydot);
+    cb.problem->rhs(t, N_VGetArrayPointer(y), f);
+    return cb.check_finite("rhs", t, f, cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("rhs", t, e.what());
+  } catch (const std::exception& e) {
+    return cb.fail("rhs", t, e.what());
+  } catch (...) {
+    return cb.fail("rhs", t, "unknown exception");
+  }
+}
+
+int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user_data, N_Vector,
+                   N_Vector, N_Vector) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    // SUNDenseMatrix storage is column-major and contiguous (leading dimension n).
+    double* jac = SUNDenseMatrix_Data(J);
+    cb.problem->jacobian(t, N_VGetArrayPointer(y), N_VGetArrayPointer(fy), jac);
+    return cb.check_finite("jacobian", t, jac, static_cast<long>(cb.n) * cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("jacobian", t, e.what());
+  } catch (const std::exception& e) {
+    return cb.fail("jacobian", t, e.what());
+  } catch (...) {
+    return cb.fail("jacobian", t, "unknown exception");
+  }
+}
+
+int sens_rhs_trampoline(int /*Ns*/, sunrealtype t, N_Vector y, N_Vector ydot, int iS, N_Vector yS,
+                        N_Vector ySdot, void* user_data, N_Vector, N_Vector) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    double* sdot = N_VGetArrayPointer(ySdot);
+    cb.problem->sensitivity_rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), iS,
+                                N_VGetArrayPointer(yS), sdot);
+    return cb.check_finite("sensitivity_rhs", t, sdot, cb.n);
+  } catch (const RecoverableError& e) {
+    return cb.recover("sensitivity_rhs", t, e.what());
+  } catch (const std::exception& e) {
+    return cb.fail("sensitivity_rhs", t, e.what());
+  } catch (...) {
+    return cb.fail("sensitivity_rhs", t, "unknown exception");
+  }
+}
+
+int sens_rhs_all_trampoline(int Ns, sunrealtype t, N_Vector y, N_Vector ydot, N_Vector* yS, N_Vector* ySdot,
+                            void* user_data, N_Vector, N_Vector) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    for (int i = 0; i < Ns; ++i) {
+      cb.s_in[static_cast<std::size_t>(i)] = N_VGetArrayPointer(yS[i]);
+      cb.s_out[static_cast<std::size_t>(i)] = N_VGetArrayPointer(ySdot[i]);
+    }
+    cb.problem->sensitivity_rhs_all(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), Ns, cb.s_in.data(),
+                                    cb.s_out.data());
+    for (int i = 0; i < Ns; ++i) {
+      const int flag = cb.check_finite("sensitivity_rhs", t, cb.s_out[static_cast<std::size_t>(i)], cb.n);
+      if (flag != 0) return flag;
+    }
+    return 0;
+  } catch (const RecoverableError& e) {
+    return cb.recover("sensitivity_rhs", t, e.what());
+  } catch (const std::exception& e) {
+    return cb.fail("sensitivity_rhs", t, e.what());
+  } catch (...) {
+    return cb.fail("sensitivity_rhs", t, "unknown exception");
+  }
+}
+
+int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
+                    void* user_data) noexcept {
+  CallbackData& cb = data_of(user_data);
+  try {
+    double* c = N_VGetArrayPointer(corr);
+    const int flag = cb.problem->project(t, N_VGetArrayPointer(ycur), c, eps_proj,
+                                         err != nullptr ? N_VGetArrayPointer(err) : nullptr);
+    if (flag != 0) {
+      try {
+        cb.callback_message =
+            "project returned " + std::to_string(flag) + " at t = " + format_time(t);
+      } catch (...) {
+      }
+      if (flag > 0) ++cb.recoverable;
+      return flag;
+    }
+    return cb.check_finite("project", t, c, cb.n);
+  } catch (const std::exception& e) {
+    return cb.fail("project", t, e.what());
+  } catch (...) {
+    return cb.fail("project", t, "unknown exception");
+  }
+}
+
+void error_handler(int error_code, const char* /*module*/, const char* function, char* msg,
+                   void* user_data) noexcept {
+  if (error_code >= 0) return;
+  try {
+    data_of(user_data).solver_message = std::string(function) + ": " + msg;
+  } catch (...) {
+  }
+}
+
+}  // namespace kanesens::sim::detail

@@ -1,0 +1,104 @@
+// The C callbacks CVODES calls (Integrator's implementation, sim/solve/integrator.cpp): nothrow
+// trampolines into an OdeProblem, and the data they share with the integrator. Exceptions never
+// cross into C: a callback that throws keeps its message and returns −1 (CVODES stops); a
+// non-finite output returns +1 (CVODES retries with a smaller step).
+#pragma once
+#include <cvodes/cvodes.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "sim/solve/ode_problem.hpp"
+
+namespace kanesens::sim::detail {
+
+// "%.10g" of t, for messages.
+std::string format_time(double t);
+
+// What the trampolines share with the integrator (CVodeSetUserData). Lives inside
+// the integrator, whose address is stable.
+struct CallbackData {
+  OdeProblem* problem = nullptr;
+  OdeQuadrature* quadrature = nullptr;  // integrals computed alongside, or none
+  int nquad = 0;
+  std::vector<const double*> quadrature_s;  // the quadrature sensitivity call's pointers (ns each)
+  std::vector<double*> quadrature_sdot;
+  int n = 0;
+  long recoverable = 0;          // callbacks that returned +1
+  std::string callback_message;  // last callback failure (exception or non-finite output)
+  std::string solver_message;    // last error reported by CVODES's error handler
+  std::vector<const double*> s_in;  // sens_rhs_all_trampoline's pointers into yS and ySdot (ns each)
+  std::vector<double*> s_out;
+
+  void reset(OdeProblem* p, int size) {
+    problem = p;
+    n = size;
+    recoverable = 0;
+    callback_message.clear();
+    solver_message.clear();
+  }
+
+  // An exception escaped a callback: keep its message, tell CVODES to stop (−1).
+  int fail(const char* where, double t, const char* what) noexcept {
+    try {
+      callback_message = std::string(where) + " threw at t = " + format_time(t) + ": " + what;
+    } catch (...) {  // out of memory: the status still says what happened
+    }
+    return -1;
+  }
+
+  // The callback could not evaluate at this trial state (RecoverableError): +1, CVODES retries
+  // with a smaller step; the message is reported if it gives up.
+  int recover(const char* where, double t, const char* what) noexcept {
+    ++recoverable;
+    try {
+      callback_message = std::string(where) + " failed at t = " + format_time(t) + ": " + what;
+    } catch (...) {
+    }
+    return 1;
+  }
+
+  // Scan a callback's output; a NaN or Inf makes the step fail recoverably (+1), so CVODES
+  // retries with a smaller step; if that keeps happening it gives up with a flag < 0.
+  int check_finite(const char* where, double t, const double* v, long count) noexcept {
+    for (long i = 0; i < count; ++i) {
+      if (!std::isfinite(v[i])) {
+        ++recoverable;
+        try {
+          char buf[160];
+          std::snprintf(buf, sizeof buf,
+                        "%s returned a non-finite value (%g at index %ld) at t = %.10g", where,
+                        v[i], i, t);
+          callback_message = buf;
+        } catch (...) {
+        }
+        return 1;
+      }
+    }
+    return 0;
+  }
+};
+
+inline CallbackData& data_of(void* user_data) {
+  return *static_cast<CallbackData*>(user_data);
+}
+
+int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept;
+int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user_data, N_Vector, N_Vector,
+                   N_Vector) noexcept;
+int sens_rhs_trampoline(int ns, sunrealtype t, N_Vector y, N_Vector ydot, int iS, N_Vector yS, N_Vector ySdot,
+                        void* user_data, N_Vector, N_Vector) noexcept;
+// All sensitivities in one call (CVodeSensInit): the problem evaluates every direction in one
+// multi-tangent pass.
+int sens_rhs_all_trampoline(int ns, sunrealtype t, N_Vector y, N_Vector ydot, N_Vector* yS, N_Vector* ySdot,
+                            void* user_data, N_Vector, N_Vector) noexcept;
+int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
+                    void* user_data) noexcept;
+// CVODES reports errors through this instead of printing them to stderr (thousands of failing
+// samples would flood the terminal). Warnings (error_code > 0, e.g. "t + h = t") are dropped.
+void error_handler(int error_code, const char* module, const char* function, char* msg, void* user_data) noexcept;
+
+}  // namespace kanesens::sim::detail

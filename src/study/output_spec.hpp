@@ -1,0 +1,37 @@
+// The study's `outputs:` section as written (docs/reference/study.md, "outputs"): one entry per
+// output, names and texts with where they were written. parse_outputs() reads it strictly;
+// build_output_plan() (study/build_outputs.hpp) resolves it against the model.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/scene/scene_spec.hpp"
+#include "model/yaml_reader.hpp"
+#include "sim/output_plan.hpp"
+#include "util/error.hpp"
+
+namespace kanesens::study {
+
+struct OutputSpec {
+  std::string name;
+  SourceLocation where;  // of the name
+  sim::OutputKind kind = sim::OutputKind::expression;
+  // The body, joint, constraint or force the kind reads, under its key ("body", "joint", ...).
+  std::string target, target_key;
+  SourceLocation target_where;
+  model::Vec3Text point;  // body frame; default the origin (the mass center)
+  sim::EnergyKind energy = sim::EnergyKind::total;
+  // `expression:` (kind expression) or `of:` (kind reduction).
+  model::ExprText expression;
+  // Reductions: `at: T` / `at: end` or `reduce: integral | mean | rms`.
+  sim::Reduction reduce = sim::Reduction::at;
+  bool at_end = false;
+  double at = 0;
+  SourceLocation reduce_where;
+};
+
+// Reads the `outputs:` map (null: none). Throws InputError at the offending key.
+std::vector<OutputSpec> parse_outputs(const YAML::Node& node, const model::YamlReader& r);
+
+}  // namespace kanesens::study

@@ -1,0 +1,122 @@
+#include <cctype>
+#include <span>
+#include <string_view>
+#include <utility>
+
+#include "study/output_spec.hpp"
+
+namespace kanesens::study {
+namespace {
+
+using sim::OutputKind;
+
+constexpr std::pair<std::string_view, OutputKind> kKinds[] = {
+    {"position", OutputKind::position},
+    {"velocity", OutputKind::velocity},
+    {"acceleration", OutputKind::acceleration},
+    {"orientation", OutputKind::orientation},
+    {"angular_velocity", OutputKind::angular_velocity},
+    {"constraint_force", OutputKind::constraint_force},
+    {"joint_load", OutputKind::joint_load},
+    {"force_element", OutputKind::force_element},
+    {"energy", OutputKind::energy}};
+
+bool is_name(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
+}
+
+OutputSpec parse_one(const std::string& name, const YAML::Node& key_node, const YAML::Node& n,
+                     const model::YamlReader& r) {
+  const std::string key = "outputs." + name;
+  OutputSpec o;
+  o.name = name;
+  o.where = r.location(key_node);
+  if (!is_name(name))
+    r.fail(key_node, key, "an output name is letters, digits and '_', not starting with a digit");
+  r.require_map(n, key);
+  if (n["type"]) {
+    o.kind = r.read_choice<OutputKind>(n["type"], key + ".type", std::span(kKinds));
+    const char* target = nullptr;
+    switch (o.kind) {
+      case OutputKind::position:
+      case OutputKind::velocity:
+      case OutputKind::acceleration: r.check_keys(n, key, {"type", "body", "point"}); target = "body"; break;
+      case OutputKind::orientation:
+      case OutputKind::angular_velocity: r.check_keys(n, key, {"type", "body"}); target = "body"; break;
+      case OutputKind::constraint_force: r.check_keys(n, key, {"type", "constraint"}); target = "constraint"; break;
+      case OutputKind::joint_load: r.check_keys(n, key, {"type", "joint"}); target = "joint"; break;
+      case OutputKind::force_element: r.check_keys(n, key, {"type", "force"}); target = "force"; break;
+      case OutputKind::energy: r.check_keys(n, key, {"type", "kind"}); break;
+      default: break;
+    }
+    if (target) {
+      const YAML::Node t = r.required(n, target, key);
+      o.target = r.read_string(t, key + "." + target);
+      o.target_key = key + "." + target;
+      o.target_where = r.location(t);
+    }
+    if (n["point"]) o.point = r.read_vec3(n["point"], key + ".point");
+    if (o.kind == OutputKind::energy && n["kind"])
+      o.energy = r.read_choice<sim::EnergyKind>(
+          n["kind"], key + ".kind",
+          {{"kinetic", sim::EnergyKind::kinetic}, {"potential", sim::EnergyKind::potential},
+           {"total", sim::EnergyKind::total}});
+    return o;
+  }
+  if (n["expression"]) {
+    r.check_keys(n, key, {"expression"});
+    o.kind = OutputKind::expression;
+    o.expression = r.read_expr(n["expression"], key + ".expression");
+    return o;
+  }
+  if (n["of"]) {
+    r.check_keys(n, key, {"of", "at", "reduce"});
+    o.kind = OutputKind::reduction;
+    o.expression = r.read_expr(n["of"], key + ".of");
+    if (n["at"] && n["reduce"]) r.fail(n, key, "give either 'at' (a time or end) or 'reduce' (integral, mean, rms), not both");
+    if (const YAML::Node at = n["at"]) {
+      o.reduce = sim::Reduction::at;
+      o.reduce_where = r.location(at);
+      if (at.IsScalar() && at.Scalar() == "end") o.at_end = true;
+      else if (at.IsScalar()) {
+        try {
+          o.at = r.read_number(at, key + ".at");
+        } catch (const InputError&) {
+          r.fail(at, key + ".at", "expected a time (a number) or end, found " + model::describe(at));
+        }
+      } else {
+        r.fail(at, key + ".at", "expected a time (a number) or end, found " + model::describe(at));
+      }
+    } else if (const YAML::Node red = n["reduce"]) {
+      o.reduce_where = r.location(red);
+      o.reduce = r.read_choice<sim::Reduction>(red, key + ".reduce",
+                                                {{"integral", sim::Reduction::integral},
+                                                 {"mean", sim::Reduction::mean},
+                                                 {"rms", sim::Reduction::rms}});
+    } else {
+      r.fail(n, key, "'of' needs 'at' (a time or end) or 'reduce' (integral, mean, rms)");
+    }
+    return o;
+  }
+  r.fail(n, key, "expected 'type' (position, velocity, ...), 'expression' or 'of' (with at or reduce)");
+}
+
+}  // namespace
+
+std::vector<OutputSpec> parse_outputs(const YAML::Node& node, const model::YamlReader& r) {
+  std::vector<OutputSpec> out;
+  if (!node || node.IsNull()) return out;
+  r.require_map(node, "outputs");
+  for (const auto& kv : node) {
+    const std::string name = r.read_string(kv.first, "outputs");
+    for (const OutputSpec& o : out)
+      if (o.name == name) r.fail(kv.first, "outputs." + name, "output '" + name + "' is defined twice");
+    out.push_back(parse_one(name, kv.first, kv.second, r));
+  }
+  return out;
+}
+
+}  // namespace kanesens::study

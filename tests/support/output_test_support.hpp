@@ -1,0 +1,94 @@
+// Helpers of the output tests (tests/regression/test_outputs_*.cpp): run a study given as text
+// (written to a temporary file, read by the study setup as `simulate` and `run` read it) and
+// look its outputs up by name.
+#pragma once
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sim/simulate.hpp"
+#include "study/setup.hpp"
+#include "layers.hpp"
+
+namespace kanesens::testing {
+
+inline std::filesystem::path output_test_dir() {
+  static const std::filesystem::path dir = [] {
+    auto d = std::filesystem::temp_directory_path() / ("kanesens_outputs_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+// One study run: the setup (model, plan) and the trajectory of its nominal sample, or of
+// `inputs` when given.
+struct OutputRun {
+  std::unique_ptr<StudySetup> setup;
+  std::unique_ptr<KaneProblem> problem;
+  Trajectory traj;
+  std::size_t T = 0, ns = 0;
+
+  const OutputPlan& plan() const { return *setup->outputs; }
+  std::size_t series_index(const std::string& name) const {
+    const auto& n = plan().series_names;
+    const auto it = std::find(n.begin(), n.end(), name);
+    if (it == n.end()) throw std::invalid_argument("no series output " + name);
+    return static_cast<std::size_t>(it - n.begin());
+  }
+  std::size_t scalar_index(const std::string& name) const {
+    const auto& n = plan().scalar_names;
+    const auto it = std::find(n.begin(), n.end(), name);
+    if (it == n.end()) throw std::invalid_argument("no scalar output " + name);
+    return static_cast<std::size_t>(it - n.begin());
+  }
+  double series(const std::string& name, std::size_t k) const { return traj.outputs[series_index(name) * T + k]; }
+  double series_sens(const std::string& name, std::size_t k, std::size_t i) const {
+    return traj.output_sensitivities[(series_index(name) * T + k) * ns + i];
+  }
+  double scalar(const std::string& name) const { return traj.scalar_outputs[scalar_index(name)]; }
+  double scalar_sens(const std::string& name, std::size_t i) const {
+    return traj.scalar_output_sensitivities[scalar_index(name) * ns + i];
+  }
+  double state(const std::string& name, std::size_t k) const {
+    const auto& n = setup->model.state_names;
+    const auto r = static_cast<std::size_t>(std::find(n.begin(), n.end(), name) - n.begin());
+    if (r == n.size()) throw std::invalid_argument("no state " + name);
+    return traj.states[k * n.size() + r];
+  }
+  double time(std::size_t k) const { return setup->spec.output_times[k]; }
+};
+
+// Writes `text` to <tmp>/<file> and runs its nominal sample (with `set` as --set), or sample
+// `inputs` edited by `edit` (for finite differences: one input moved).
+inline OutputRun run_output_study(const std::string& text, const std::string& file,
+                                  const std::vector<std::string>& set = {},
+                                  const std::function<void(const Model&, SampleInputs&)>& edit = {},
+                                  bool force_general_3d = false) {
+  const auto path = output_test_dir() / file;
+  std::ofstream(path) << text;
+  OutputRun run;
+  run.setup = std::make_unique<StudySetup>(setup_study(path.string(), set));
+  StudySetup& s = *run.setup;
+  s.model.force_general_3d = force_general_3d;
+  run.problem = std::make_unique<KaneProblem>(s.model, s.recorded_sensitivities(), s.spec.constraints,
+                                              s.spec.output_times.front());
+  SampleInputs in = s.base;
+  if (edit) edit(s.model, in);
+  run.problem->set_sample(in);
+  Integrator integ(s.spec.solver);
+  simulate(*run.problem, integ, s.spec.output_times, s.record, run.traj);
+  if (!run.traj.result.ok()) throw std::runtime_error("integration failed: " + run.traj.result.message);
+  run.T = s.spec.output_times.size();
+  run.ns = static_cast<std::size_t>(run.problem->num_sensitivities());
+  return run;
+}
+
+}  // namespace kanesens::testing
