@@ -41,7 +41,29 @@ class OutputEvaluator final : public OdeQuadrature {
   void sensitivity_rhs(double t, const double* y, int ns, const double* const* s, double* const* qsdot) override;
   void record(int k, double t, const double* q, const double* const* qs) override;
 
+  // The study's events (plan.event_nodes) as the integrator's event functions, or nullptr if
+  // there are none. At each occurrence (up to max_count) NAME.count grows; at the first,
+  // NAME.time = τ and its sensitivities dτ/dp_i = −(∂g/∂y·s_i + ∂g/∂p_i)/(∂g/∂y·ẏ + ∂g/∂t),
+  // both through dual numbers.
+  OdeEvents* events() { return plan_.event_nodes.empty() ? nullptr : &events_; }
+
  private:
+  class Events final : public OdeEvents {
+   public:
+    explicit Events(OutputEvaluator& e) : e_(e) {}
+    int size() const override { return static_cast<int>(e_.plan_.event_nodes.size()); }
+    int direction(int i) const override;
+    void g(double t, const double* y, double* gout) override;
+    bool occurred(int i, double t, const double* y, const double* const* s) override;
+
+   private:
+    OutputEvaluator& e_;
+  };
+  // dg/dt along the solution at (t, y) for the series slot `slot` of `program` (values_ there):
+  // y_full_dot the full state's derivative. Exact, by two dual passes (∂/∂p_0 cancels).
+  double time_derivative(const OutputProgram& program, int slot, double t, const double* y_full,
+                         const double* y_full_dot);
+
   // Tangent i of `program` into tangents_ (values_ must hold the values at the same state).
   void evaluate_tangent(const OutputProgram& program, int i, double t, const double* y, const double* s);
 
@@ -56,6 +78,8 @@ class OutputEvaluator final : public OdeQuadrature {
   std::vector<double> y_full_;                // nstate (quadrature integrands)
   std::vector<std::vector<double>> s_full_;   // ns × nstate
   std::vector<double> quadrature_, quadrature_tangents_;  // last recorded Q (nquad), QS (nquad × ns)
+  Events events_{*this};
+  std::vector<double> ydot_, ydot_full_, zero_;  // events: ẏ, its full-state image, zeros
 };
 
 }  // namespace kanesens::sim

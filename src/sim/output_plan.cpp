@@ -111,7 +111,8 @@ OutputProgram program_of(const OutputPlan& plan, const std::vector<int>& starts)
 }  // namespace
 
 void finish_output_plan(OutputPlan& plan, const std::vector<int>& user_order) {
-  std::vector<int> record_starts, at_starts, integrand_starts;
+  std::vector<int> record_starts, at_starts, integrand_starts, event_starts;
+  plan.event_nodes.clear();
   plan.at_times.clear();
   plan.quadrature_nodes.clear();
   plan.scalar_expressions.clear();
@@ -131,6 +132,9 @@ void finish_output_plan(OutputPlan& plan, const std::vector<int>& user_order) {
       if (node.reduce == Reduction::at) {
         at_starts.push_back(node.of);
         plan.at_times.push_back(node.at);
+      } else if (node.reduce == Reduction::event) {
+        event_starts.push_back(node.of);
+        plan.event_nodes.push_back(static_cast<int>(v));
       } else {
         integrand_starts.push_back(node.of);
         node.quadrature = static_cast<int>(plan.quadrature_nodes.size());
@@ -144,6 +148,7 @@ void finish_output_plan(OutputPlan& plan, const std::vector<int>& user_order) {
   plan.record = program_of(plan, record_starts);
   plan.at = program_of(plan, at_starts);
   plan.integrands = program_of(plan, integrand_starts);
+  plan.events = program_of(plan, event_starts);
   plan.series_slots.clear();
   plan.scalar_slots.clear();
   plan.series_names.clear();

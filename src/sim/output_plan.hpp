@@ -26,7 +26,9 @@ enum class OutputKind : unsigned char {
   reduction    // one number per sample from a series: `of:` with `at:` or `reduce:`
 };
 enum class EnergyKind : unsigned char { kinetic, potential, total };
-enum class Reduction : unsigned char { at, integral, mean, rms };
+// event: the first time `of` crosses zero in a direction and the number of crossings (an
+// `events:` entry; components NAME.time, NAME.count), located by the integrator.
+enum class Reduction : unsigned char { at, integral, mean, rms, event };
 // What evaluating a node needs: parameters only, the position stage (and state expressions),
 // the velocity stage, or the whole right-hand side (u̇ and λ).
 enum class Level : unsigned char { parameters, position, velocity, acceleration };
@@ -57,6 +59,9 @@ struct OutputNode {
   int of = -1;                                   //   the node reduced (series, one component)
   double at = 0;                                 //   Reduction::at: the time
   int quadrature = -1;                           //   integral, mean, rms: its quadrature component
+  int direction = 0;                             //   event: +1 rising, −1 falling, 0 both
+  bool stop = false;                             //   event: its first occurrence ends the sample
+  long max_count = 0;                            //   event: occurrences counted at most
 };
 
 // The series nodes to evaluate for one purpose, dependencies first, and the level they need.
@@ -77,6 +82,8 @@ struct OutputPlan {
   OutputProgram record;      // at every output time: the recorded series
   OutputProgram at;          // at the `at:` times: the series they read
   OutputProgram integrands;  // inside the integration: the series integral/mean/rms read
+  OutputProgram events;      // inside the integration: the event functions
+  std::vector<int> event_nodes;          // the event nodes (Reduction::event), in node order
   std::vector<double> at_times;          // distinct `at:` times, increasing
   std::vector<int> quadrature_nodes;     // per quadrature component: its reduction node
   std::vector<int> scalar_expressions;   // scalar expression nodes, in evaluation order

@@ -188,7 +188,7 @@ void simulate(KaneProblem& problem, Integrator& integrator, std::span<const doub
   OutputEvaluator outputs(plan, problem);
   outputs.start();
   traj.result = integrator.integrate(problem, schedule.times, recorder(problem, flags, traj, &outputs, &schedule),
-                                     outputs.size() > 0 ? &outputs : nullptr);
+                                     outputs.size() > 0 ? &outputs : nullptr, outputs.events());
   outputs.finish(traj.result.ok(), times.back() - times.front(), traj.scalar_outputs.data(),
                  traj.scalar_output_sensitivities.data());
   name_failure_cause(problem, traj);

@@ -57,7 +57,7 @@ struct Builder {
   }
 
   void check_name(const OutputSpec& o, const std::vector<std::string>& components) {
-    const std::string key = "outputs." + o.name;
+    const std::string key = o.key();
     if (is_reserved_output_name(o.name))
       throw InputError(o.where, key, "'" + o.name + "' names a recorded output (record: energy, constraint_residual); choose another name");
     for (const auto& c : components) {
@@ -80,7 +80,7 @@ struct Builder {
 
   void add_spec(std::size_t si) {
     const OutputSpec& o = specs[si];
-    const std::string key = "outputs." + o.name;
+    const std::string key = o.key();
     OutputNode n;
     n.name = o.name;
     n.kind = o.kind;
@@ -119,17 +119,21 @@ struct Builder {
         of.kind = OutputKind::expression;
         of.recorded = false;
         of.components = {of.name};
-        add_node(std::move(of), static_cast<int>(si), key + ".of");
+        add_node(std::move(of), static_cast<int>(si), key + (o.event ? ".when" : ".of"));
         n.of = static_cast<int>(plan.nodes.size()) - 1;
         n.depends = {n.of};
         n.reduce = o.reduce;
         n.series = false;
+        n.direction = o.direction;
+        n.stop = o.stop;
+        n.max_count = o.max_count;
         break;
       }
     }
     const std::vector<std::string> suffixes = sim::output_component_suffixes(o.kind, m, n.constraint);
     for (const auto& s : suffixes) n.components.push_back(o.name + "." + s);
     if (suffixes.empty()) n.components = {o.name};
+    if (o.event) n.components = {o.name + ".time", o.name + ".count"};
     check_name(o, n.components);
     user_node.push_back(static_cast<int>(plan.nodes.size()));
     add_node(std::move(n), static_cast<int>(si), o.kind == OutputKind::expression ? key + ".expression" : key);
@@ -224,8 +228,9 @@ struct Builder {
         const OutputNode& of = plan.nodes[static_cast<std::size_t>(n.of)];
         const OutputSpec& o = specs[static_cast<std::size_t>(spec_of_node[v])];
         if (!of.series)
-          throw InputError(o.expression.where, "outputs." + o.name + ".of",
-                           "'" + o.expression.text + "' does not change with time (it reads only parameters and outputs that are one number per sample); 'of' takes a quantity of time");
+          throw InputError(o.expression.where, o.key() + (o.event ? ".when" : ".of"),
+                           "'" + o.expression.text + "' does not change with time (it reads only parameters and outputs that are one number per sample); '" +
+                               (o.event ? "when" : "of") + "' takes a quantity of time");
         if (n.reduce == sim::Reduction::at) {
           n.at = o.at_end ? times.back() : o.at;
           if (n.at < times.front() || n.at > times.back())

@@ -29,9 +29,20 @@ struct OutputSpec {
   bool at_end = false;
   double at = 0;
   SourceLocation reduce_where;
+  // An `events:` entry (kind reduction, reduce event; `when:` in expression).
+  bool event = false;
+  int direction = 0;  // rising +1, falling −1, both 0
+  bool stop = false;  // action: stop
+  long max_count = 0;
+  // The key its messages name: "outputs.NAME" or "events.NAME".
+  std::string key() const { return (event ? "events." : "outputs.") + name; }
 };
 
 // Reads the `outputs:` map (null: none). Throws InputError at the offending key.
 std::vector<OutputSpec> parse_outputs(const YAML::Node& node, const model::YamlReader& r);
+// Reads the `events:` list (null: none) as outputs of kind reduction (reduce event); `outputs`:
+// the outputs already read (an event may not take an output's name).
+std::vector<OutputSpec> parse_events(const YAML::Node& node, const model::YamlReader& r,
+                                     const std::vector<OutputSpec>& outputs);
 
 }  // namespace kanesens::study

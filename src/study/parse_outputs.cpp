@@ -119,4 +119,43 @@ std::vector<OutputSpec> parse_outputs(const YAML::Node& node, const model::YamlR
   return out;
 }
 
+std::vector<OutputSpec> parse_events(const YAML::Node& node, const model::YamlReader& r,
+                                     const std::vector<OutputSpec>& outputs) {
+  std::vector<OutputSpec> out;
+  if (!node || node.IsNull()) return out;
+  r.require_sequence(node, "events");
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node n = node[i];
+    const std::string at = "events[" + std::to_string(i) + "]";
+    r.require_map(n, at);
+    r.check_keys(n, at, {"name", "when", "direction", "action", "max_count"});
+    const YAML::Node name_node = r.required(n, "name", at);
+    OutputSpec o;
+    o.name = r.read_string(name_node, at + ".name");
+    o.where = r.location(name_node);
+    o.event = true;
+    if (!is_name(o.name))
+      r.fail(name_node, at + ".name", "an event name is letters, digits and '_', not starting with a digit");
+    for (const OutputSpec& p : outputs)
+      if (p.name == o.name) r.fail(name_node, at + ".name", "'" + o.name + "' is already the name of an output");
+    for (const OutputSpec& p : out)
+      if (p.name == o.name) r.fail(name_node, at + ".name", "event '" + o.name + "' is defined twice");
+    const std::string key = o.key();
+    o.kind = OutputKind::reduction;
+    o.reduce = sim::Reduction::event;
+    o.expression = r.read_expr(r.required(n, "when", key), key + ".when");
+    if (n["direction"])
+      o.direction = r.read_choice<int>(n["direction"], key + ".direction", {{"rising", 1}, {"falling", -1}, {"both", 0}});
+    if (n["action"])
+      o.stop = r.read_choice<bool>(n["action"], key + ".action", {{"record", false}, {"stop", true}});
+    o.max_count = 1000000;
+    if (n["max_count"]) {
+      o.max_count = static_cast<long>(r.read_integer(n["max_count"], key + ".max_count"));
+      if (o.max_count < 1) r.fail(n["max_count"], key + ".max_count", "expected a whole number >= 1, found " + model::describe(n["max_count"]));
+    }
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
 }  // namespace kanesens::study

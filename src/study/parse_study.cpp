@@ -224,7 +224,7 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
     else st.set_inputs[name] = parse_number(value, "--set " + name);
   }
   const YamlReader r(path);
-  r.check_keys(doc, "", {"kanesens", "scene", "time", "solver", "sampling", "vary", "sensitivities", "record", "outputs"});
+  r.check_keys(doc, "", {"kanesens", "scene", "time", "solver", "sampling", "vary", "sensitivities", "record", "outputs", "events"});
   const YAML::Node version = r.required(doc, "kanesens", "");
   if (!version.IsScalar() || version.Scalar() != "1") r.fail(version, "kanesens", "unsupported schema version; this kanesens reads version 1");
   const YAML::Node scene = r.required(doc, "scene", "");
@@ -256,6 +256,10 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
   }
   parse_record(doc["record"], r, st);
   st.outputs = parse_outputs(doc["outputs"], r);
+  {
+    std::vector<OutputSpec> events = parse_events(doc["events"], r, st.outputs);
+    for (auto& e : events) st.outputs.push_back(std::move(e));
+  }
   if (const YAML::Node s = doc["sampling"]; s && !s.IsNull()) {
     st.sampling = parse_sampling(s, {path, 0, 0});
   } else {

@@ -461,24 +461,27 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
           for (int i : crossing) located.emplace_back(ev->locate(st, i, t, h_try), i);
           std::stable_sort(located.begin(), located.end(),
                            [](const auto& x, const auto& y) { return x.first < y.first; });
+          // A stop takes effect after the crossings at the same time (within the tolerance).
+          const double same = 100 * std::numeric_limits<double>::epsilon() * (std::abs(t) + std::abs(h_try));
+          double stop_at = std::numeric_limits<double>::quiet_NaN();
           for (const auto& [tau, i] : located) {
+            if (!std::isnan(stop_at) && tau > stop_at + same) break;
             record_dense(tau, false);
             st.interpolate(tau, dense);
-            bool stop = false;
             try {
-              stop = events->occurred(i, tau, dense.data(), st.sensitivities(&dense));
+              if (events->occurred(i, tau, dense.data(), st.sensitivities(&dense)) && std::isnan(stop_at)) stop_at = tau;
             } catch (const std::exception& e) {
               throw CallbackError{std::string("event handler threw: ") + e.what()};
             }
-            if (stop) {
-              record_dense(tau, true);
-              r.stopped_at = tau;
-              r.message = at_time("stopped by an event", tau);
-              r.stats.steps += 1;
-              r.status = 1;
-              r.stats.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
-              return r;
-            }
+          }
+          if (!std::isnan(stop_at)) {
+            record_dense(stop_at, true);
+            r.stopped_at = stop_at;
+            r.message = at_time("stopped by an event", stop_at);
+            r.stats.steps += 1;
+            r.status = 1;
+            r.stats.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
+            return r;
           }
         }
       }
