@@ -109,18 +109,45 @@ def _joint_sets(q):
     return sets
 
 
+def _load(path):
+    try:
+        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
+        return doc["scene"]
+    except (OSError, yaml.YAMLError, KeyError, TypeError) as err:
+        raise GeometryError(f"{path}: not a scene or study file ({err})") from None
+
+
 def scene_geometry(scene_path, q=None, sets=(), kanesens=None):
-    """Positions (world, m) of everything `draw` shows, as a dict of plain numpy arrays."""
+    """Positions (world, m) of everything `draw` shows, as a dict of plain numpy arrays.
+
+    scene_path is a scene file, or a study file: then its scene, and the points of its
+    position, velocity and acceleration outputs, are drawn."""
     exe = find_kanesens(kanesens)
     scene_path = Path(scene_path).resolve()
-    try:
-        doc = yaml.safe_load(scene_path.read_text(encoding="utf-8"))
-        scene = doc["scene"]
-    except (OSError, yaml.YAMLError, KeyError, TypeError) as err:
-        raise GeometryError(f"{scene_path}: not a scene file ({err})") from None
+    scene = _load(scene_path)
+    marks = []
+    if isinstance(scene, str):  # a study: its scene file is relative to the study
+        study_outputs = yaml.safe_load(scene_path.read_text(encoding="utf-8")).get("outputs") or {}
+        scene_path = (scene_path.parent / scene).resolve()
+        scene = _load(scene_path)
+    else:
+        study_outputs = {}
+    if not isinstance(scene, dict):
+        raise GeometryError(f"{scene_path}: not a scene file")
     plan = _Plan()
+    for name, spec in study_outputs.items():
+        if isinstance(spec, dict) and spec.get("type") in ("position", "velocity", "acceleration"):
+            marks.append((name, spec["body"], plan.point(spec["body"], _vec(spec.get("point")))))
     bodies = [b["name"] for b in scene.get("bodies") or []]
     refs = {"bodies": {b: (plan.point(b, ["0", "0", "0"]), plan.orientation(b)) for b in bodies}}
+    ends = {}  # a rod or cylinder shape: the two ends of its axis
+    for b in scene.get("bodies") or []:
+        shape = b.get("inertia") if isinstance(b.get("inertia"), dict) else {}
+        if shape.get("shape") in ("rod", "cylinder") and shape.get("axis") in ("x", "y", "z"):
+            k = "xyz".index(shape["axis"])
+            tip = [f"({_text(shape['length'])})/2" if i == k else "0" for i in range(3)]
+            ends[b["name"]] = [plan.point(b["name"], tip),
+                               plan.point(b["name"], [f"-{t}" if t != "0" else t for t in tip])]
     joints = []
     for j in scene.get("joints") or []:
         parent, child = j["parent"], j["child"]
@@ -143,19 +170,22 @@ def scene_geometry(scene_path, q=None, sets=(), kanesens=None):
     for f in scene.get("forces") or []:
         if f.get("type") == "spring_damper":
             springs.append({"name": f.get("name", "spring_damper"),
+                            "body_a": f["body_a"], "body_b": f["body_b"],
                             "a": plan.point(f["body_a"], _vec(f.get("point_a"))),
                             "b": plan.point(f["body_b"], _vec(f.get("point_b")))})
         elif f.get("type") in ("force", "torque"):
-            loads.append({"name": f.get("name", f["type"]), "type": f["type"],
+            loads.append({"name": f.get("name", f["type"]), "type": f["type"], "body": f["body"],
                           "at": plan.point(f["body"], _vec(f.get("point")))})
     constraints = []
     for c in scene.get("constraints") or []:
         kind = c.get("type")
         entry = {"name": c.get("name", kind), "type": kind}
         if kind in ("coincident", "distance"):
+            entry["body_a"], entry["body_b"] = c["body_a"], c["body_b"]
             entry["a"] = plan.point(c["body_a"], _vec(c.get("point_a")))
             entry["b"] = plan.point(c["body_b"], _vec(c.get("point_b")))
         elif kind == "rolling":
+            entry["body"] = c["body"]
             entry["center"] = plan.point(c["body"], ["0", "0", "0"])
             entry["axis_tip"] = plan.point(c["body"], _vec(c.get("axis")))
             entry["radius"] = plan.scalar(c["radius"])
@@ -188,7 +218,9 @@ def scene_geometry(scene_path, q=None, sets=(), kanesens=None):
         "state_names": result["state_names"], "state": np.array(result["states"][0], float),
         "bodies": {}, "joints": [], "springs": [], "loads": [], "constraints": []}
     for b, (pos, quat) in refs["bodies"].items():
-        geo["bodies"][b] = {"position": val(pos), "quaternion": val(quat)}
+        geo["bodies"][b] = {"position": val(pos), "quaternion": val(quat),
+                            "ends": [val(e) for e in ends.get(b, [])]}
+    geo["points"] = [{"name": n, "body": b, "at": val(ref)} for n, b, ref in marks]
     for j in joints:
         g = {k: j[k] for k in ("name", "type", "parent", "child")}
         g["parent_point"], g["child_point"] = val(j["parent_point"]), val(j["child_point"])
@@ -200,11 +232,13 @@ def scene_geometry(scene_path, q=None, sets=(), kanesens=None):
         g["axes"] = axes
         geo["joints"].append(g)
     for s in springs:
-        geo["springs"].append({"name": s["name"], "a": val(s["a"]), "b": val(s["b"])})
+        geo["springs"].append({"name": s["name"], "body_a": s["body_a"], "body_b": s["body_b"],
+                               "a": val(s["a"]), "b": val(s["b"])})
     for f in loads:
-        geo["loads"].append({"name": f["name"], "type": f["type"], "at": val(f["at"])})
+        geo["loads"].append({"name": f["name"], "type": f["type"], "body": f["body"],
+                             "at": val(f["at"])})
     for c in constraints:
-        g = {"name": c["name"], "type": c["type"]}
+        g = {k: v for k, v in c.items() if k in ("name", "type", "body", "body_a", "body_b")}
         if c["type"] in ("coincident", "distance"):
             g["a"], g["b"] = val(c["a"]), val(c["b"])
         elif c["type"] == "rolling":
