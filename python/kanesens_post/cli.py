@@ -212,6 +212,7 @@ def cmd_animate(args):
     from pathlib import Path
 
     import h5py
+    import yaml
 
     from . import draw, geometry
     with h5py.File(args.file, "r") as f:
@@ -228,6 +229,10 @@ def cmd_animate(args):
         times = np.asarray(f["time"][()], float)
         poses = np.asarray(f["poses"][args.sample], float)
         scene_text = text(f.attrs["scene_yaml"])
+        try:  # the study's points (position outputs) are drawn too
+            study_outputs = (yaml.safe_load(text(f.attrs.get("study_yaml", ""))) or {}).get("outputs")
+        except (yaml.YAMLError, AttributeError):
+            study_outputs = None
         sets = [s for s in text(f.attrs.get("set_arguments", "")).split()
                 if s.split("=")[0].split(".")[0] not in ("time", "solver", "sampling")]
         if "parameters" in f:
@@ -236,7 +241,7 @@ def cmd_animate(args):
     with tempfile.TemporaryDirectory(prefix="kanesens-animate-") as tmp:
         scene = Path(tmp) / "scene.yaml"
         scene.write_text(scene_text, encoding="utf-8")
-        geo = geometry.scene_geometry(scene, None, sets, args.kanesens)
+        geo = geometry.scene_geometry(scene, None, sets, args.kanesens, study_outputs)
     out = args.o or f"{args.file.rsplit('.', 1)[0]}_sample{args.sample}.gif"
     frames, _ = draw.animate(geo, times, poses, bodies, out, fps=args.fps, max_frames=args.frames,
                              title=f"{geo['scene']}, sample {args.sample}", dpi=args.dpi)

@@ -117,20 +117,21 @@ def _load(path):
         raise GeometryError(f"{path}: not a scene or study file ({err})") from None
 
 
-def scene_geometry(scene_path, q=None, sets=(), kanesens=None):
+def scene_geometry(scene_path, q=None, sets=(), kanesens=None, study_outputs=None):
     """Positions (world, m) of everything `draw` shows, as a dict of plain numpy arrays.
 
     scene_path is a scene file, or a study file: then its scene, and the points of its
-    position, velocity and acceleration outputs, are drawn."""
+    position, velocity and acceleration outputs (or those of study_outputs, a study's `outputs:`
+    map) are drawn."""
     exe = find_kanesens(kanesens)
     scene_path = Path(scene_path).resolve()
     scene = _load(scene_path)
     marks = []
     if isinstance(scene, str):  # a study: its scene file is relative to the study
-        study_outputs = yaml.safe_load(scene_path.read_text(encoding="utf-8")).get("outputs") or {}
+        study_outputs = yaml.safe_load(scene_path.read_text(encoding="utf-8")).get("outputs")
         scene_path = (scene_path.parent / scene).resolve()
         scene = _load(scene_path)
-    else:
+    if not isinstance(study_outputs, dict):
         study_outputs = {}
     if not isinstance(scene, dict):
         raise GeometryError(f"{scene_path}: not a scene file")

@@ -106,7 +106,8 @@ def test_animate_draws_the_recorded_poses(exe, tmp_path):
              "time": {"end": 1.0, "outputs": 11},
              "sampling": {"method": "mc", "samples": 2, "seed": 1},
              "vary": {"L1": {"dist": "uniform", "low": 0.8, "high": 1.2}},
-             "record": ["states", "poses"]}
+             "record": ["states", "poses"],
+             "outputs": {"tip": {"type": "position", "body": "rod2", "point": [0, "-L2/2", 0]}}}
     path = tmp_path / "study.yaml"
     path.write_text(yaml.safe_dump(study))
     h5 = tmp_path / "run.h5"
@@ -117,7 +118,7 @@ def test_animate_draws_the_recorded_poses(exe, tmp_path):
         L1 = float(f["parameters"][1, 0])
         times = f["time"][()]
     geo = geometry.scene_geometry(ROOT / "configs/double_pendulum.yaml", sets=[f"L1={L1!r}"],
-                                  kanesens=exe)
+                                  kanesens=exe, study_outputs=study["outputs"])
     gif = tmp_path / "run.gif"
     frames, pictures = draw.animate(geo, times, poses, bodies, gif, max_frames=6)
     assert len(frames) == 6
@@ -127,6 +128,8 @@ def test_animate_draws_the_recorded_poses(exe, tmp_path):
         elbow = next(j for j in pictures[n]["joints"] if j["name"] == "elbow")
         np.testing.assert_allclose(elbow["child_point"], L1 * down(a), atol=1e-9)
         np.testing.assert_allclose(elbow["parent_point"], L1 * down(a), atol=1e-9)
+        tip = pictures[n]["points"][0]["at"]
+        np.testing.assert_allclose(tip, L1 * down(a) + 1.0 * down(a + b), atol=1e-9)
         for i, body in enumerate(bodies):
             np.testing.assert_allclose(pictures[n]["bodies"][body]["position"], poses[k, i, :3])
     from PIL import Image
