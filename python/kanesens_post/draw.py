@@ -61,7 +61,7 @@ def planar_view(geo, tol=1e-9):
     return None
 
 
-def _zigzag(a, b, normal, turns=6, width=0.06):
+def _zigzag(a, b, normal, width, turns=6):
     """A spring's zigzag from a to b, its teeth perpendicular to the line and to normal."""
     d = b - a
     length = np.linalg.norm(d)
@@ -73,7 +73,7 @@ def _zigzag(a, b, normal, turns=6, width=0.06):
         side = np.cross(e, [1.0, 0, 0]) if abs(e[0]) < 0.9 else np.cross(e, [0, 1.0, 0])
     side /= np.linalg.norm(side)
     s = np.linspace(0.15, 0.85, 2 * turns + 1)
-    off = np.r_[0, [(-1) ** i for i in range(1, 2 * turns)], 0] * width * length
+    off = np.r_[0, [(-1) ** i for i in range(1, 2 * turns)], 0] * min(width, 0.2 * length)
     mid = a + np.outer(s, d) + np.outer(off, side)
     return np.vstack([a, mid, b])
 
@@ -166,7 +166,7 @@ def draw_on(ax, geo, k, scale, labels=True):
             cv.text(j["child_point"], f"{j['name']}  ", color=JOINT_COLOR, fontsize=8, ha="right",
                     va="bottom", zorder=6)
     for s in geo["springs"]:
-        cv.line(_zigzag(s["a"], s["b"], normal), f"spring:{s['name']}", color=SPRING_COLOR, lw=1.5,
+        cv.line(_zigzag(s["a"], s["b"], normal, 0.04 * scale), f"spring:{s['name']}", color=SPRING_COLOR, lw=1.5,
                 zorder=3)
         if labels:
             cv.text(0.5 * (s["a"] + s["b"]), f" {s['name']}", color=SPRING_COLOR, fontsize=8)
@@ -219,9 +219,10 @@ def draw_on(ax, geo, k, scale, labels=True):
 
 
 def extent(points):
-    """Center and half-size of a cube around the points (at least 0.5 m)."""
+    """Center and half-size of a cube around the points, with a margin."""
     lo, hi = points.min(axis=0), points.max(axis=0)
-    return 0.5 * (lo + hi), max(0.5 * float((hi - lo).max()) * 1.15, 0.25)
+    half = 0.5 * float((hi - lo).max()) * 1.15
+    return 0.5 * (lo + hi), max(half, 0.05 * float(np.abs(points).max()), 0.05)
 
 
 def new_axes(k, title):
