@@ -29,7 +29,8 @@ fi
 start=$(date +%s)
 if [[ ! -f $build/CMakeCache.txt ]]; then
   cmake -S "$root" -B "$build" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DKANESENS_FUZZ=ON -DKANESENS_BUILD_TESTS=OFF >/dev/null
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" \
+    -DKANESENS_FUZZ=ON -DKANESENS_BUILD_TESTS=OFF >/dev/null
 fi
 cmake --build "$build" -j "${KANESENS_JOBS:-$(nproc)}" --target "${targets[@]}"
 echo "fuzz: build $(( $(date +%s) - start )) s"

@@ -11,7 +11,7 @@ packages=(
   libsundials-dev libyaml-cpp-dev libcli11-dev libfmt-dev libboost-dev
   libgtest-dev libbenchmark-dev
   python3 python3-numpy python3-h5py python3-xarray python3-h5netcdf python3-matplotlib
-  python3-scipy python3-sympy python3-pytest python3-yaml python3-openturns
+  python3-scipy python3-sympy python3-pytest python3-yaml python3-pil python3-openturns
   python3-venv python3-setuptools python3-wheel
 )
 if [[ "${KANESENS_PEERS:-0}" == 1 ]]; then

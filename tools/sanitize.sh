@@ -12,7 +12,9 @@ build=${KANESENS_ASAN_BUILD_DIR:-$root/build-asan}
 start=$(date +%s)
 bash "$root/tools/install-deps.sh" >/dev/null
 if [[ ! -f $build/CMakeCache.txt ]]; then
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DKANESENS_SANITIZE=ON -DKANESENS_WERROR=ON >/dev/null
+  # -O1 -g1: what the sanitizers recommend (full stacks), at a fraction of the compile time of -O2 -g
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
+    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" -DKANESENS_SANITIZE=ON -DKANESENS_WERROR=ON >/dev/null
 fi
 # The unit-test executables (one per tests/unit/test_*.cpp) and what they link.
 targets=()

@@ -38,6 +38,7 @@ inline CLI::Validator integer_in(long long lo, long long hi) {
 
 CLI::App* add_check(CLI::App& app, Action& action);
 CLI::App* add_eom(CLI::App& app, Action& action);
+CLI::App* add_linearize(CLI::App& app, Action& action);
 CLI::App* add_simulate(CLI::App& app, Action& action);
 CLI::App* add_run(CLI::App& app, Action& action);
 CLI::App* add_bench(CLI::App& app, Action& action);

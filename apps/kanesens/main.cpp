@@ -1,4 +1,4 @@
-// kanesens command line: check, eom, simulate, run, bench (see README "Command line").
+// kanesens command line: check, eom, linearize, simulate, run, bench (see README "Command line").
 // Errors become one line on stderr and a non-zero exit: 2 for bad input, 1 for anything else.
 #include <CLI/CLI.hpp>
 #include <cstdlib>
@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   app.add_flag("--version", show_version, "Print versions of kanesens and the libraries it was built with");
   kanesens::cli::Action action;
   std::vector<CLI::App*> subs = {kanesens::cli::add_check(app, action), kanesens::cli::add_eom(app, action),
+                                kanesens::cli::add_linearize(app, action),
                                 kanesens::cli::add_simulate(app, action),
                                 kanesens::cli::add_run(app, action),
                                 kanesens::cli::add_bench(app, action)};

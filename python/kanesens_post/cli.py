@@ -7,7 +7,11 @@
     kanesens-post morris FILE --output NAME [--at T]
     kanesens-post dgsm FILE --output NAME [--at T]
     kanesens-post linear-uq FILE --output NAME [--at T | --over-time] [--tol 0.1] [--out PNG]
+    kanesens-post draw SCENE_OR_STUDY.yaml [--q JOINT=V[,V..] ...] [--set NAME=VALUE ...] [-o PNG]
+    kanesens-post animate FILE --sample I [-o GIF] [--fps 20] [--frames 100]
 
+draw and animate run the kanesens executable (--kanesens PATH, $KANESENS, PATH, or the
+checkout's build/kanesens) for the positions they draw; animate needs `record: [poses]`.
 NAME is a state or an output (energy, or one of the study's outputs: a series needs --at T or
 --over-time, an output that is one number per sample takes neither). Every subcommand takes
 --json (one JSON object on stdout). Errors print one line and exit 2.
@@ -23,6 +27,7 @@ import numpy as np
 
 from . import dgsm, linear_uq, morris, sobol, summary
 from .distributions import StudyError
+from .geometry import GeometryError
 from .io import RunFileError, design, open_run
 
 
@@ -189,6 +194,61 @@ def cmd_linear_uq(args, ds):
     return r, text
 
 
+def cmd_draw(args):
+    from . import draw, geometry
+    geo = geometry.scene_geometry(args.file, args.q, args.set or [], args.kanesens)
+    out = args.o or f"{args.file.rsplit('.', 1)[0]}.png"
+    fig = draw.draw(geo)
+    fig.savefig(out, dpi=args.dpi)
+    view = draw.planar_view(geo)
+    result = {"png": out, "scene": geo["scene"], "view": "3d" if view is None else "2d",
+              "bodies": {b: v["position"] for b, v in geo["bodies"].items()},
+              "joints": {j["name"]: j["child_point"] for j in geo["joints"]}}
+    return result, f"wrote {out} ({result['view']})"
+
+
+def cmd_animate(args):
+    import tempfile
+    from pathlib import Path
+
+    import h5py
+    import yaml
+
+    from . import draw, geometry
+    with h5py.File(args.file, "r") as f:
+        if "poses" not in f:
+            raise RunFileError(f"{args.file}: no /poses (the study needs record: [poses])")
+        n = f["poses"].shape[0]
+        if not 0 <= args.sample < n:
+            raise RunFileError(f"--sample {args.sample}: the file has samples 0..{n - 1}")
+        status = int(f["status"][args.sample])
+        if status != 1:
+            raise RunFileError(f"sample {args.sample} has status {status} (not ok): nothing to draw")
+        text = lambda v: v.decode() if isinstance(v, bytes) else str(v)  # noqa: E731
+        bodies = [text(b).rstrip("\x00") for b in f["body"][()]]
+        times = np.asarray(f["time"][()], float)
+        poses = np.asarray(f["poses"][args.sample], float)
+        scene_text = text(f.attrs["scene_yaml"])
+        try:  # the study's points (position outputs) are drawn too
+            study_outputs = (yaml.safe_load(text(f.attrs.get("study_yaml", ""))) or {}).get("outputs")
+        except (yaml.YAMLError, AttributeError):
+            study_outputs = None
+        sets = [s for s in text(f.attrs.get("set_arguments", "")).split()
+                if s.split("=")[0].split(".")[0] not in ("time", "solver", "sampling")]
+        if "parameters" in f:
+            names = [text(p).rstrip("\x00") for p in f["parameter"][()]]
+            sets += [f"{p}={v!r}" for p, v in zip(names, f["parameters"][args.sample])]
+    with tempfile.TemporaryDirectory(prefix="kanesens-animate-") as tmp:
+        scene = Path(tmp) / "scene.yaml"
+        scene.write_text(scene_text, encoding="utf-8")
+        geo = geometry.scene_geometry(scene, None, sets, args.kanesens, study_outputs)
+    out = args.o or f"{args.file.rsplit('.', 1)[0]}_sample{args.sample}.gif"
+    frames, _ = draw.animate(geo, times, poses, bodies, out, fps=args.fps, max_frames=args.frames,
+                             title=f"{geo['scene']}, sample {args.sample}", dpi=args.dpi)
+    return ({"gif": out, "sample": args.sample, "frames": len(frames)},
+            f"wrote {out} ({len(frames)} frames)")
+
+
 def parser():
     p = argparse.ArgumentParser(prog="kanesens-post", description=__doc__.split("\n")[0])
     sub = p.add_subparsers(dest="command", required=True)
@@ -226,15 +286,38 @@ def parser():
         if name == "linear-uq":
             s.add_argument("--tol", type=float, default=0.1,
                            help="relative tolerance on variance (and mean, in std units)")
+    s = sub.add_parser("draw", help="a picture of a scene at its initial state or a given one")
+    s.add_argument("file", help="scene YAML")
+    s.add_argument("--q", action="append", metavar="JOINT=V[,V..]",
+                   help="a joint's coordinates (repeatable; others keep their q0)")
+    s.add_argument("--set", action="append", metavar="NAME=VALUE",
+                   help="a parameter or initial condition, as kanesens --set (repeatable)")
+    s.add_argument("-o", help="PNG path (default SCENE.png)")
+    s.add_argument("--dpi", type=int, default=100)
+    s.add_argument("--kanesens", help="path of the kanesens executable")
+    s.add_argument("--json", action="store_true", help="print one JSON object")
+    s.set_defaults(func=cmd_draw, run_file=False)
+    s = sub.add_parser("animate", help="an animated GIF of one sample's recorded poses")
+    s.add_argument("file", help="run file written by kanesens run with record: [poses]")
+    s.add_argument("--sample", type=int, required=True, help="sample index")
+    s.add_argument("-o", help="GIF path (default FILE_sampleI.gif)")
+    s.add_argument("--fps", type=int, default=20)
+    s.add_argument("--frames", type=int, default=100, help="at most this many frames")
+    s.add_argument("--dpi", type=int, default=60)
+    s.add_argument("--kanesens", help="path of the kanesens executable")
+    s.add_argument("--json", action="store_true", help="print one JSON object")
+    s.set_defaults(func=cmd_animate, run_file=False)
     return p
 
 
 def main(argv=None):
     args = parser().parse_args(argv)
     try:
-        ds = open_run(args.file)
-        result, text = args.func(args, ds)
-    except (RunFileError, StudyError, OSError, KeyError) as err:
+        if getattr(args, "run_file", True):
+            result, text = args.func(args, open_run(args.file))
+        else:
+            result, text = args.func(args)
+    except (RunFileError, StudyError, GeometryError, OSError, KeyError) as err:
         print(f"kanesens-post {args.command}: {err}", file=sys.stderr)
         return 2
     if args.json:

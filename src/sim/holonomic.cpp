@@ -8,6 +8,26 @@ namespace kanesens::sim {
 
 using math::Dual;
 
+std::vector<int> choose_dependent_columns(const Eigen::MatrixXd& J, const std::vector<int>& order) {
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> full(J);
+  full.setThreshold(1e-10);
+  const Eigen::Index rank = full.rank();
+  const double scale = J.colwise().norm().maxCoeff();
+  std::vector<int> dep;
+  for (std::size_t o = 0; o < order.size() && static_cast<Eigen::Index>(dep.size()) < rank; ++o) {
+    const int i = order[o];
+    if (!(J.col(i).norm() > 1e-10 * scale)) continue;
+    std::vector<int> trial = dep;
+    trial.push_back(i);
+    Eigen::MatrixXd Jd(J.rows(), static_cast<Eigen::Index>(trial.size()));
+    for (std::size_t c = 0; c < trial.size(); ++c) Jd.col(static_cast<Eigen::Index>(c)) = J.col(trial[c]);
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Jd);
+    qr.setThreshold(1e-10);
+    if (qr.rank() == static_cast<Eigen::Index>(trial.size())) dep = trial;
+  }
+  return dep;
+}
+
 HolonomicConstraints::HolonomicConstraints(const model::Model& model) : model_(model) {
   for (const model::Constraint& c : model.constraints)
     for (int r = 0; r < c.nrows; ++r)

@@ -11,6 +11,11 @@
 
 namespace kanesens::sim {
 
+// Dependent columns of a constraint Jacobian J (rank(J) of them), tried in the order `order`: a
+// column is taken if it is not negligible against J's largest column and raises the rank of those
+// taken. What the consistent initial state and the linearization solve for.
+std::vector<int> choose_dependent_columns(const Eigen::MatrixXd& J, const std::vector<int>& order);
+
 class HolonomicConstraints {
  public:
   explicit HolonomicConstraints(const model::Model& model);

@@ -17,6 +17,14 @@ using math::value_of;
 using model::Constraint;
 using model::Model;
 
+template <class S>
+Eigen::Matrix3d value_of_matrix(const Eigen::Matrix<S, 3, 3>& R) {
+  Eigen::Matrix3d v;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) v(i, j) = value_of(R(i, j));
+  return v;
+}
+
 std::string number(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", x);
@@ -39,6 +47,20 @@ void check_constraint_rows(const Model& m, const Workspace<S>& ws, double t) {
     const Constraint& c = m.constraints[ci];
     const SourceLocation where = ci < m.spec.constraints.size() ? m.spec.constraints[ci].where : scene_where(m);
     const std::string key = ci < m.spec.constraints.size() ? m.spec.constraints[ci].key : "scene.constraints";
+    if (c.kind == Constraint::Kind::rolling) {
+      // The contact point is the wheel point nearest the plane, c − r unit(n − (n·a) a): undefined
+      // when the axle is along the normal (the wheel lies flat), and ill-conditioned near it.
+      using V3 = Eigen::Vector3d;
+      const V3 a = (value_of_matrix(ws.R[c.body]) *
+                    V3(value_of(ws.values[c.axis[0]]), value_of(ws.values[c.axis[1]]), value_of(ws.values[c.axis[2]])))
+                       .normalized();
+      const V3 n = V3(value_of(ws.values[c.normal[0]]), value_of(ws.values[c.normal[1]]), value_of(ws.values[c.normal[2]]))
+                       .normalized();
+      if (!((n - n.dot(a) * a).norm() > 1e-6))
+        throw InputError(where, key,
+                         "the wheel of rolling constraint '" + c.name + "' lies flat on its plane at the initial state (t = " +
+                             number(t) + "): its axle is along the plane's normal, where the contact point is undefined");
+    }
     double largest = 0;
     for (int r = c.row_offset; r < c.row_offset + c.nrows; ++r) {
       const double values[] = {value_of(ws.position_residual[r]), value_of(ws.velocity_residual[r]),

@@ -22,28 +22,6 @@ struct Tangents {
   std::vector<Workspace<Dual>*> workspace;  // [tangent]
 };
 
-// Dependent columns of J (rank(J) of them), tried in the order `order`: a column is taken if it
-// is not negligible against J's largest column and raises the rank of those taken.
-std::vector<int> choose_dependent(const Eigen::MatrixXd& J, const std::vector<int>& order) {
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> full(J);
-  full.setThreshold(1e-10);
-  const Eigen::Index rank = full.rank();
-  const double scale = J.colwise().norm().maxCoeff();
-  std::vector<int> dep;
-  for (std::size_t o = 0; o < order.size() && static_cast<Eigen::Index>(dep.size()) < rank; ++o) {
-    const int i = order[o];
-    if (!(J.col(i).norm() > 1e-10 * scale)) continue;
-    std::vector<int> trial = dep;
-    trial.push_back(i);
-    Eigen::MatrixXd Jd(J.rows(), static_cast<Eigen::Index>(trial.size()));
-    for (std::size_t c = 0; c < trial.size(); ++c) Jd.col(static_cast<Eigen::Index>(c)) = J.col(trial[c]);
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Jd);
-    qr.setThreshold(1e-10);
-    if (qr.rank() == static_cast<Eigen::Index>(trial.size())) dep = trial;
-  }
-  return dep;
-}
-
 // y0 as duals with the tangent of sensitivity `i` (i < 0: none), before any correction.
 void unconstrained_state(const Model& m, const SampleInputs& inputs, const std::vector<InputRef>& sens, int i,
                          const Workspace<Dual>& ws, std::vector<Dual>& y0) {
@@ -139,7 +117,7 @@ double correct_positions(const Model& m, const std::vector<unsigned char>& given
       for (int c = 0; c < 4; ++c) quaternion[static_cast<std::size_t>(J.quaternion_offset + c)] = 1;
   const std::vector<int> fallback = dependent_order(given, 0, nq, quaternion);
   Eigen::MatrixXd D = coordinate_directions(m, wsv, t0, qv.data(), fallback);
-  const std::vector<int> dep = choose_dependent(G * D, all_columns(D.cols()));
+  const std::vector<int> dep = choose_dependent_columns(G * D, all_columns(D.cols()));
   const std::vector<Dual> ud(static_cast<std::size_t>(nu), Dual(0));
   std::vector<std::vector<Dual>> gd(T, std::vector<Dual>(static_cast<std::size_t>(mh)));
   Eigen::VectorXd gv(mh), gt(mh);
@@ -228,7 +206,7 @@ double correct_speeds(const Model& m, const std::vector<unsigned char>& given, d
       for (int r = 0; r < nc; ++r) rt[k][r] = ws.velocity_residual[r].d;
     }
     if (iter == 0) {
-      dep = choose_dependent(A * U, all_columns(U.cols()));
+      dep = choose_dependent_columns(A * U, all_columns(U.cols()));
       Ud.resize(nu, static_cast<Eigen::Index>(dep.size()));
       for (std::size_t c = 0; c < dep.size(); ++c) Ud.col(static_cast<Eigen::Index>(c)) = U.col(dep[c]);
     }

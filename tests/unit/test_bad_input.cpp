@@ -146,6 +146,7 @@ std::vector<Case> scene_cases() {
       {"DistanceZeroLength", Kind::scene, with_constraint("{name: rod, type: distance, body_a: b, body_b: ground, length: 0}"), {"s.yaml:13:", "scene.constraints[0].length", "length must be > 0"}},
       {"CouplerWithItself", Kind::scene, with_constraint("{name: gear, type: coupler, joint_a: j1, joint_b: j1}"), {"s.yaml:13:7", "scene.constraints[0].joint_b", "two different joints"}},
       {"RollingZeroNormal", Kind::scene, with_constraint("{name: r, type: rolling, body: b, radius: 0.1, axis: [0, 0, 1], normal: [0, 0, 0]}"), {"s.yaml:13:", "scene.constraints[0].normal", "normal has zero length"}},
+      {"RollingWheelLyingFlat", Kind::scene, with_constraint("{name: r, type: rolling, body: b, radius: 0.1, axis: [0, 0, 1], normal: [0, 0, 1]}"), {"s.yaml:13:7", "scene.constraints[0]", "the wheel of rolling constraint 'r' lies flat on its plane"}},
       {"RollingZeroRadius", Kind::scene, with_constraint("{name: r, type: rolling, body: b, radius: \"L - 1\", axis: [0, 0, 1]}"), {"s.yaml:13:", "scene.constraints[0].radius", "radius must be > 0"}},
       {"GeneralPositionOfNoCoordinate", Kind::scene, with_constraint("{name: g, type: general, position: \"L - 1 + t\"}"), {"s.yaml:13:", "scene.constraints[0].position", "does not depend on any coordinate"}},
       {"GeneralPositionOfQuaternion", Kind::scene, kBall + "  constraints:\n    - {name: g, type: general, position: \"j.qx - 0.1\"}\n", {"s.yaml:10:", "scene.constraints[0].position", "'j.qx' is a quaternion component"}},
