@@ -1,21 +1,23 @@
 #!/usr/bin/python3
-"""Right-hand-side speed of kanesens against MuJoCo's mj_forward on planar N-link chains
-(docs/benchmarks.md).
+"""Right-hand-side speed of kanesens against MuJoCo's mj_forward on planar and spatial N-link
+chains (docs/benchmarks.md).
 
     /usr/bin/python3 bench/bench_rhs.py [OUT_DIR] [--ns "1 2 4 8 16 32"] [--rounds 3] [--repeat 31]
-        [--build build-bench]
+        [--build build-bench] [--spatial-axes z,x]
     env (defaults of the options): NS ROUNDS REPEAT KANESENS_BUILD_DIR KANESENS_JOBS
     quick smoke test (seconds, not for the docs): bench/bench_rhs.py /tmp/rhs --ns 1,2 --rounds 1 --repeat 3
 
 Builds kanesens and the MuJoCo peer (-DKANESENS_PEERS=ON; needs libmujoco-dev:
 KANESENS_PEERS=1 tools/install-deps.sh) into the build directory, then, in one run, alternates
 for every N and every round: `kanesens bench rhs` on the chain, the MuJoCo bench on the same
-chain and state, and `kanesens bench rhs` on the chain with its last axis tilted 1e-3 rad out of
-the plane (which forces the general 3-D evaluation). Each program reports a median over batches;
-the table shows the median of those over the rounds. Check: kanesens eom's u̇ at MuJoCo's state
-against MuJoCo's qacc.
+chain and state, `kanesens bench rhs` on the chain with its last axis tilted 1e-3 rad out of
+the plane (which forces the general 3-D evaluation), then both engines on the spatial chain
+(joint axes cycling through --spatial-axes, default z, x: neighbouring axes perpendicular, so
+kanesens evaluates it with the general 3-D code). Each program reports a median over batches;
+the tables show the median of those over the rounds. Check: kanesens eom's u̇ at MuJoCo's state
+against MuJoCo's qacc, on both chains.
 
-Writes OUT_DIR (default out/bench) bench_rhs.md (markdown table), bench_rhs.json (all raw
+Writes OUT_DIR (default out/bench) bench_rhs.md (markdown tables), bench_rhs.json (all raw
 results), scenes/ and raw/.
 """
 from __future__ import annotations
@@ -32,12 +34,13 @@ WHO = "bench_rhs"
 
 
 def agreement(kanesens, scene, mj) -> dict:
+    """kanesens eom's u̇ at MuJoCo's state against MuJoCo's qacc."""
     ks = c.run_json([kanesens, "eom", scene, "--q=" + c.fmt_list(mj["qpos"]), "--u=" + c.fmt_list(mj["qvel"])])
     scale = max(1.0, max(abs(x) for x in mj["qacc"]))
     return {"max_abs_diff_udot_qacc": max(abs(a - b) for a, b in zip(ks["udot"], mj["qacc"])), "scale": scale}
 
 
-def report(out: Path, rounds: int, ns) -> str:
+def report(out: Path, rounds: int, ns, spatial_axes: str, load_start) -> str:
     load = lambda f: c.load_json(out / "raw" / f"{f}.json")
     med = c.median
     rows, raw = [], {}
@@ -45,6 +48,8 @@ def report(out: Path, rounds: int, ns) -> str:
         k = [load(f"kanesens_{n}_{r}") for r in range(1, rounds + 1)]
         m = [load(f"mujoco_{n}_{r}") for r in range(1, rounds + 1)]
         t = [load(f"tilted_{n}_{r}") for r in range(1, rounds + 1)]
+        ks = [load(f"kanesens_spatial_{n}_{r}") for r in range(1, rounds + 1)]
+        ms = [load(f"mujoco_spatial_{n}_{r}") for r in range(1, rounds + 1)]
         rows.append({"n": n,
                      "kanesens_rhs_ns": med([x["rhs"]["median_ns"] for x in k]),
                      "kanesens_mf_ns": med([x["mass_matrix_and_forcing"]["median_ns"] for x in k]),
@@ -52,12 +57,17 @@ def report(out: Path, rounds: int, ns) -> str:
                      "kanesens_3d_rhs_ns": med([x["rhs"]["median_ns"] for x in t]),
                      "kanesens_3d_mf_ns": med([x["mass_matrix_and_forcing"]["median_ns"] for x in t]),
                      "mujoco_forward_ns": med([x["mj_forward"]["median_ns"] for x in m]),
+                     "kanesens_spatial_rhs_ns": med([x["rhs"]["median_ns"] for x in ks]),
+                     "kanesens_spatial_mf_ns": med([x["mass_matrix_and_forcing"]["median_ns"] for x in ks]),
+                     "mujoco_spatial_forward_ns": med([x["mj_forward"]["median_ns"] for x in ms]),
                      "kanesens_path": k[0].get("path", "?"), "tilted_path": t[0].get("path", "?"),
-                     "agreement": load(f"agree_{n}")})
-        raw[n] = {"kanesens": k, "mujoco": m, "kanesens_tilted": t}
+                     "spatial_path": ks[0].get("path", "?"),
+                     "agreement": load(f"agree_{n}"), "agreement_spatial": load(f"agree_spatial_{n}")})
+        raw[n] = {"kanesens": k, "mujoco": m, "kanesens_tilted": t, "kanesens_spatial": ks, "mujoco_spatial": ms}
     cpu, nproc, load_avg = c.cpu_model(), str(c.nproc()), c.loadavg()
     eps = lambda ns_: 1e9 / ns_
-    lines = [f"Date {datetime.date.today()}, {cpu}, nproc {nproc}, load average at the end {' '.join(load_avg)}, "
+    lines = [f"Date {datetime.date.today()}, commit {c.git_revision()}, {cpu}, nproc {nproc}, "
+             f"load average at the start {' '.join(load_start)}, at the end {' '.join(load_avg)}, "
              f"{rounds} rounds, medians over rounds of medians over batches.", "",
              "| N | kanesens RHS (eval/s) | kanesens M+f (eval/s) | MuJoCo mj_forward (eval/s) | "
              "speed ratio RHS : mj_forward | kanesens Dual Jacobian (µs) | 3-D path RHS (eval/s) | planar speedup | "
@@ -69,11 +79,24 @@ def report(out: Path, rounds: int, ns) -> str:
                      f"{r['kanesens_jacobian_ns'] / 1e3:.2f} | {eps(r['kanesens_3d_rhs_ns']):,.0f} | "
                      f"{r['kanesens_3d_rhs_ns'] / r['kanesens_rhs_ns']:.2f} | "
                      f"{r['agreement']['max_abs_diff_udot_qacc']:.1e} |")
+    lines += ["", f"Spatial chain (joint axes {spatial_axes}, cycled) beside the planar chain, ns per evaluation "
+              "(ratio = MuJoCo mj_forward time / kanesens RHS time on the same chain):", "",
+              "| N | kanesens 3-D RHS, spatial (ns) | MuJoCo mj_forward, spatial (ns) | ratio 3-D | "
+              "kanesens planar RHS (ns) | MuJoCo mj_forward, planar (ns) | ratio planar | "
+              "max abs(udot − qacc), spatial |",
+              "|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        lines.append(f"| {r['n']} | {r['kanesens_spatial_rhs_ns']:,.0f} | {r['mujoco_spatial_forward_ns']:,.0f} | "
+                     f"{r['mujoco_spatial_forward_ns'] / r['kanesens_spatial_rhs_ns']:.2f} | "
+                     f"{r['kanesens_rhs_ns']:,.0f} | {r['mujoco_forward_ns']:,.0f} | "
+                     f"{r['mujoco_forward_ns'] / r['kanesens_rhs_ns']:.2f} | "
+                     f"{r['agreement_spatial']['max_abs_diff_udot_qacc']:.1e} |")
     table = "\n".join(lines) + "\n"
     (out / "bench_rhs.md").write_text(table)
     with open(out / "bench_rhs.json", "w") as f:
-        json.dump({"date": str(datetime.date.today()), "cpu": cpu, "nproc": nproc, "loadavg_end": load_avg,
-                   "platform": platform.platform(), "rounds": rounds, "rows": rows, "raw": raw}, f, indent=1)
+        json.dump({"date": str(datetime.date.today()), "commit": c.git_revision(), "cpu": cpu, "nproc": nproc,
+                   "loadavg_start": load_start, "loadavg_end": load_avg, "platform": platform.platform(),
+                   "rounds": rounds, "spatial_axes": spatial_axes, "rows": rows, "raw": raw}, f, indent=1)
     return table
 
 
@@ -84,6 +107,8 @@ def main(argv=None):
     ap.add_argument("--rounds", type=int, default=int(c.env_default("ROUNDS", 3)))
     ap.add_argument("--repeat", type=int, default=int(c.env_default("REPEAT", 31)), help="batches per program")
     ap.add_argument("--build", default=c.env_default("KANESENS_BUILD_DIR", str(c.ROOT / "build-bench")))
+    ap.add_argument("--spatial-axes", default="z,x",
+                    help="joint axes of the spatial chain, cycled (letters x, y, z)")
     a = ap.parse_args(argv)
     out, ns = Path(a.out), [int(x) for x in c.words(a.ns)]
     (out / "scenes").mkdir(parents=True, exist_ok=True)
@@ -96,6 +121,8 @@ def main(argv=None):
     for n in ns:
         (out / "scenes" / f"chain{n}.yaml").write_text(c.chain_scene_yaml(n))
         (out / "scenes" / f"chain{n}_tilted.yaml").write_text(c.chain_scene_yaml(n, 1e-3))
+        (out / "scenes" / f"chain{n}_spatial.yaml").write_text(c.chain_scene_yaml(n, axes=a.spatial_axes))
+    load_start = c.loadavg()
 
     for r in range(1, a.rounds + 1):
         for n in ns:
@@ -104,13 +131,19 @@ def main(argv=None):
             c.write_json(out / "raw" / f"kanesens_{n}_{r}.json", rhs(out / "scenes" / f"chain{n}.yaml"))
             c.write_json(out / "raw" / f"mujoco_{n}_{r}.json", c.run_json([mujoco, n, "--repeat", a.repeat]))
             c.write_json(out / "raw" / f"tilted_{n}_{r}.json", rhs(out / "scenes" / f"chain{n}_tilted.yaml"))
+            c.write_json(out / "raw" / f"kanesens_spatial_{n}_{r}.json", rhs(out / "scenes" / f"chain{n}_spatial.yaml"))
+            c.write_json(out / "raw" / f"mujoco_spatial_{n}_{r}.json",
+                         c.run_json([mujoco, n, "--repeat", a.repeat, "--axes", a.spatial_axes]))
 
     # Same equations? kanesens's u̇ at MuJoCo's state against MuJoCo's qacc.
     for n in ns:
         mj = c.load_json(out / "raw" / f"mujoco_{n}_1.json")
         c.write_json(out / "raw" / f"agree_{n}.json", agreement(kanesens, out / "scenes" / f"chain{n}.yaml", mj))
+        mj = c.load_json(out / "raw" / f"mujoco_spatial_{n}_1.json")
+        c.write_json(out / "raw" / f"agree_spatial_{n}.json",
+                     agreement(kanesens, out / "scenes" / f"chain{n}_spatial.yaml", mj))
 
-    print(report(out, a.rounds, ns))
+    print(report(out, a.rounds, ns, a.spatial_axes, load_start))
 
 
 if __name__ == "__main__":

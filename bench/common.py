@@ -107,18 +107,23 @@ def git_revision() -> str:
                           capture_output=True, text=True).stdout.strip()
 
 
-def chain_scene_yaml(n: int, tilt: float = 0.0) -> str:
-    """The planar N-link benchmark chain (rods of mass 1, length 1, central inertia
+def chain_scene_yaml(n: int, tilt: float = 0.0, axes: str = "z") -> str:
+    """The N-link benchmark chain (rods of mass 1, length 1, central inertia
     diag(1/12, 1e-4, 1/12); tests/support/test_scenes.hpp's chain_scene and the peer programs
-    build the same), with the last axis tilted by `tilt` rad out of the plane (which forces the
-    general 3-D evaluation)."""
+    build the same). `axes` ("z" planar, "z,x" spatial: the peers' --axes) are the joint axes,
+    cycled along the chain. `tilt` rad tips the last axis out of the plane (which forces the
+    general 3-D evaluation of an otherwise planar chain)."""
+    unit = {"x": "[1, 0, 0]", "y": "[0, 1, 0]", "z": "[0, 0, 1]"}
+    cycle = [unit[a] for a in axes.split(",")]
     lines = [f"kanesens: 1\nscene:\n  name: chain{n}\n  gravity: [0, -9.81, 0]",
              "  parameters: {m: 1.0, L: 1.0}\n  bodies:"]
     for i in range(1, n + 1):
         lines.append('    - {name: link%d, mass: m, inertia: {xx: "m*L^2/12", yy: 1.0e-4, zz: "m*L^2/12"}}' % i)
     lines.append("  joints:")
     for i in range(1, n + 1):
-        axis = "[%.17g, 0, %.17g]" % (math.sin(tilt), math.cos(tilt)) if tilt and i == n else "[0, 0, 1]"
+        axis = cycle[(i - 1) % len(cycle)]
+        if tilt and i == n:
+            axis = "[%.17g, 0, %.17g]" % (math.sin(tilt), math.cos(tilt))
         parent = "ground" if i == 1 else "link%d" % (i - 1)
         pp = "0" if i == 1 else '"-L/2"'
         lines.append('    - {name: j%d, type: revolute, parent: %s, child: link%d, axis: %s, '
