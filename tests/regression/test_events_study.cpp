@@ -7,7 +7,9 @@
 //     count 0 and time NaN; a scalar expression reads the event time;
 //   - an event function of t, a state and a parameter: dτ/dp against fourth-order central
 //     differences of τ;
-//   - action: stop ends the sample at τ with an ok status; later outputs stay NaN.
+//   - action: stop ends the sample at τ with an ok status; later outputs stay NaN;
+//   - the quarter period and its sensitivities on a pendulum built from a pin constraint, under
+//     projection, Baumgarte and the embedding.
 #include <gtest/gtest.h>
 
 #include <boost/math/special_functions/ellint_1.hpp>
@@ -115,3 +117,46 @@ TEST_P(EventsStudy, StopEndsTheSampleWithAnOkStatus) {
 
 INSTANTIATE_TEST_SUITE_P(Methods, EventsStudy, ::testing::Values("bdf", "adams", "dop853"),
                          [](const auto& info) { return info.param; });
+
+// The same quarter period on the pendulum made of a planar joint and a pin constraint
+// (configs/constrained_pendulum.yaml): multipliers with projection or Baumgarte, and the
+// embedding (whose event functions read the full state through its coordinate map), under bdf
+// and dop853; θ0 enters through the initial coordinates.
+struct Constrained {
+  const char* name;
+  const char* method;
+  const char* constraints;
+};
+
+class EventsConstrained : public ::testing::TestWithParam<Constrained> {};
+
+TEST_P(EventsConstrained, QuarterPeriodAndSensitivities) {
+  const Constrained c = GetParam();
+  const std::string text = std::string("kanesens: 1\nscene: ") + KANESENS_SOURCE_DIR +
+                           "/configs/constrained_pendulum.yaml\n"
+                           "time: {end: 3.0, outputs: 31}\n"
+                           "solver: {method: " + c.method + ", rtol: 1.0e-10, atol: 1.0e-12, constraints: {" + c.constraints + "}}\n"
+                           "sensitivities: [L, theta0]\n"
+                           "events:\n  - {name: zero, when: base.q3, direction: falling}\n";
+  const OutputRun r = run_output_study(text, std::string("events_constrained_") + c.name + ".yaml");
+  const double L = 1.0, theta0 = 0.5, k = std::sin(theta0 / 2);
+  const double K = boost::math::ellint_1(k), E = boost::math::ellint_2(k), scale = std::sqrt(2 * L / (3 * g));
+  const double tau = K * scale;
+  const double dtau_dtheta0 = scale * (E / (k * (1 - k * k)) - K / k) * std::cos(theta0 / 2) / 2;
+  std::printf("%s: tau error %.2e, dtau/dL error %.2e, dtau/dtheta0 error %.2e\n", c.name, r.scalar("zero.time") - tau,
+              r.scalar_sens("zero.time", 0) - tau / (2 * L), r.scalar_sens("zero.time", 1) - dtau_dtheta0);
+  EXPECT_EQ(r.scalar("zero.count"), 2);
+  EXPECT_NEAR(r.scalar("zero.time"), tau, 1e-8);
+  EXPECT_NEAR(r.scalar_sens("zero.time", 0), tau / (2 * L), 1e-7);
+  EXPECT_NEAR(r.scalar_sens("zero.time", 1), dtau_dtheta0, 1e-7);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Formulations, EventsConstrained,
+    ::testing::Values(Constrained{"bdf_projection", "bdf", "formulation: multipliers, stabilization: projection"},
+                      Constrained{"dop853_projection", "dop853", "formulation: multipliers, stabilization: projection"},
+                      Constrained{"bdf_baumgarte", "bdf", "formulation: multipliers, stabilization: baumgarte"},
+                      Constrained{"dop853_baumgarte", "dop853", "formulation: multipliers, stabilization: baumgarte"},
+                      Constrained{"bdf_embedding", "bdf", "formulation: embedding, stabilization: projection"},
+                      Constrained{"dop853_embedding", "dop853", "formulation: embedding, stabilization: projection"}),
+    [](const auto& info) { return std::string(info.param.name); });
