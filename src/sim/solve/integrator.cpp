@@ -22,15 +22,12 @@
 
 #include "sim/solve/cvodes_callbacks.hpp"
 #include "sim/solve/cvodes_quadrature.hpp"
+#include "sim/solve/integrator_impl.hpp"
 #include "sim/solve/sundials_handles.hpp"
 
 namespace kanesens::sim {
 
-namespace {
-
-using namespace detail;
-
-int sensitivity_method_flag(SensitivityMethod m) {
+int detail::sensitivity_method_flag(SensitivityMethod m) {
   switch (m) {
     case SensitivityMethod::simultaneous:
       return CV_SIMULTANEOUS;
@@ -42,111 +39,16 @@ int sensitivity_method_flag(SensitivityMethod m) {
   return CV_STAGGERED;
 }
 
+namespace {
+
+using namespace detail;
+
 [[noreturn]] void invalid(const std::string& what) {
   throw std::invalid_argument(what);
 }
 
 }  // namespace
 
-struct Integrator::Impl {
-  explicit Impl(SolverOptions o) : options(std::move(o)) {}
-
-  SolverOptions options;
-  CallbackData cb;
-
-  // Shape of the CVODES objects below (built = false: none yet).
-  bool built = false;
-  int n = 0;
-  int ns = 0;
-  int nquad = 0;
-  bool projection = false;
-
-  // Declared in creation order; release() frees them in reverse (cvode_mem first).
-  ContextPtr ctx;
-  NVectorPtr y;
-  NVectorPtr atol_vector;
-  MatrixPtr A;
-  LinearSolverPtr LS;
-  NonlinearSolverPtr NLS;
-  NVectorArray yS;
-  NonlinearSolverPtr NLS_sens;
-  CvodeMemPtr mem;
-  detail::CvodesQuadrature quadrature;  // after mem: its vectors are only CVODES's templates
-
-  NVectorPtr y_out;                       // output interpolated between steps (step-by-step runs)
-  NVectorArray yS_out;
-  std::vector<const double*> s_pointers;  // ns pointers into yS, for record()
-  std::vector<const double*> s_out_pointers;  // ns pointers into yS_out
-  std::vector<double*> s_step_pointers;   // ns pointers into yS, for after_step()
-  std::vector<double> pbar;               // sensitivity scales of the current problem
-  std::vector<int> plist;                 // DQ parameter list of the current problem
-  double* dq_p = nullptr;                 // DQ parameter array of the current problem
-  std::vector<double> dq_p_saved;         // its values at the start of the run
-  std::vector<int> root_directions, roots_found;  // per event function (CVodeRootInit)
-
-  // After CV_ROOT_RETURN at t (y, s: the state and sensitivities there): calls occurred() for
-  // every function CVODES found crossing, in index order. True if one asked to stop.
-  bool handle_roots(double t, const double* yv, const double* const* s) {
-    check_flag(CVodeGetRootInfo(mem.get(), roots_found.data()), "CVodeGetRootInfo");
-    bool stop = false;
-    event_error.clear();
-    try {
-      for (std::size_t i = 0; i < roots_found.size(); ++i)
-        if (roots_found[i] != 0) stop = cb.events->occurred(static_cast<int>(i), t, yv, s) || stop;
-    } catch (const std::exception& e) {
-      event_error = e.what();
-      return true;
-    }
-    return stop;
-  }
-  std::string event_error;  // handle_roots: an event handler threw (the run fails)
-  // The integration ends at t: stopped by an event, or failed if its handler threw.
-  void stop_at(IntegrationResult& result, double t) const {
-    if (!event_error.empty()) {
-      result.status = CV_RHSFUNC_FAIL;
-      result.t_fail = t;
-      result.message = cvode_flag_name(CV_RHSFUNC_FAIL) + " at t = " + format_time(t) + ": event handler threw: " + event_error;
-      return;
-    }
-    result.stopped_at = t;
-    result.message = "stopped by an event at t = " + format_time(t);
-  }
-
-  void release() noexcept {
-    quadrature.release();
-    mem.reset();
-    yS_out = NVectorArray();
-    y_out.reset();
-    NLS_sens.reset();
-    yS = NVectorArray();
-    NLS.reset();
-    LS.reset();
-    A.reset();
-    atol_vector.reset();
-    y.reset();
-    ctx.reset();
-    built = false;
-  }
-
-  void check_problem(OdeProblem& problem, std::span<const double> times) const;
-  // Steps one at a time, records the outputs each step passes and restarts where the problem
-  // changes its coordinates (OdeProblem::after_step). Outputs 1.. into `result`.
-  void integrate_stepwise(OdeProblem& problem, std::span<const double> times, const RecordFn& record,
-                          OdeQuadrature* quad, IntegrationResult& result);
-  void fail(IntegrationResult& result, int flag, double t) const {
-    result.status = flag;
-    result.t_fail = t;
-    result.message = cvode_flag_name(flag) + " at t = " + format_time(t);
-    if (!cb.solver_message.empty()) result.message += ": " + cb.solver_message;
-    if (!cb.callback_message.empty()) result.message += "; " + cb.callback_message;
-  }
-  void build(int n_states, int n_sens, bool with_projection, int n_quad, double t0);
-  void reinit(OdeProblem& problem, OdeQuadrature* quad, OdeEvents* events, double t0, double t_end);
-  void restore_dq_parameters() noexcept {
-    for (std::size_t i = 0; i < dq_p_saved.size(); ++i) dq_p[plist[i]] = dq_p_saved[i];
-  }
-  SolverStats collect_stats() const;
-};
 
 void Integrator::Impl::check_problem(OdeProblem& problem, std::span<const double> times) const {
   const int n_states = problem.size();
@@ -366,71 +268,6 @@ void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, OdeEvent
   }
   // Never step past the last output (a model's forcing may be defined only up to t_end).
   check_flag(CVodeSetStopTime(mem.get(), t_end), "CVodeSetStopTime");
-}
-
-void Integrator::Impl::integrate_stepwise(OdeProblem& problem, std::span<const double> times, const RecordFn& record,
-                                          OdeQuadrature* quad, IntegrationResult& result) {
-  void* m = mem.get();
-  double* yv = N_VGetArrayPointer(y.get());
-  const double* const* s_out = ns > 0 ? s_out_pointers.data() : nullptr;
-  double* const* s_step = ns > 0 ? s_step_pointers.data() : nullptr;
-  SolverStats before;  // counters of the segments before the last restart (CVodeReInit resets them)
-  std::size_t k = 1;
-  double t = times.front();
-  while (k < times.size()) {
-    long steps = 0;
-    check_flag(CVodeGetNumSteps(m, &steps), "CVodeGetNumSteps");
-    if (before.steps + steps >= options.max_steps) {
-      result.status = CV_TOO_MUCH_WORK;
-      result.t_fail = t;
-      result.message = "CV_TOO_MUCH_WORK at t = " + format_time(t) + ": max_steps = " +
-                       std::to_string(options.max_steps) + " steps taken before reaching t = " + format_time(times[k]);
-      break;
-    }
-    const int flag = CVode(m, times.back(), y.get(), &t, CV_ONE_STEP);
-    if (flag < 0) {
-      fail(result, flag, t);
-      break;
-    }
-    for (; k < times.size() && times[k] <= t; ++k) {
-      check_flag(CVodeGetDky(m, times[k], 0, y_out.get()), "CVodeGetDky");
-      for (int i = 0; i < ns; ++i) check_flag(CVodeGetSensDky1(m, times[k], 0, i, yS_out[i]), "CVodeGetSensDky1");
-      record(static_cast<int>(k), times[k], N_VGetArrayPointer(y_out.get()), s_out);
-      if (quad) quadrature.record_interpolated(m, *quad, static_cast<int>(k), times[k]);
-      ++result.outputs_recorded;
-    }
-    if (ns > 0) {
-      double ts = 0;
-      check_flag(CVodeGetSens(m, &ts, yS.get()), "CVodeGetSens");
-    }
-    if (flag == CV_ROOT_RETURN) {  // t is the crossing, y and yS the state there
-      if (handle_roots(t, yv, ns > 0 ? s_pointers.data() : nullptr)) {
-        stop_at(result, t);
-        break;
-      }
-      continue;
-    }
-    if (k == times.size()) break;
-    bool changed = false;
-    try {
-      changed = problem.after_step(t, yv, s_step);
-    } catch (const std::exception& e) {
-      result.status = CV_RHSFUNC_FAIL;
-      result.t_fail = t;
-      result.message = cvode_flag_name(CV_RHSFUNC_FAIL) + " at t = " + format_time(t) + ": " + e.what();
-      break;
-    }
-    if (!changed) continue;
-    before += collect_stats();
-    ++before.repartitions;
-    if (quad) quadrature.save(m, t);
-    check_flag(CVodeReInit(m, t, y.get()), "CVodeReInit");
-    if (ns > 0)
-      check_flag(CVodeSensReInit(m, sensitivity_method_flag(options.sensitivity_method), yS.get()), "CVodeSensReInit");
-    if (quad) quadrature.restart(m);
-    check_flag(CVodeSetStopTime(m, times.back()), "CVodeSetStopTime");
-  }
-  result.stats = before;
 }
 
 SolverStats Integrator::Impl::collect_stats() const {
