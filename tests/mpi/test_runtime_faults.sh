@@ -100,9 +100,9 @@ echo "per-sample faults: ok"
 cat > long.yaml <<YAML
 kanesens: 1
 scene: $configs/double_pendulum.yaml
-time: {end: 20.0, outputs: 201}
+time: {end: 20.0, outputs: 41}
 solver: {rtol: 1.0e-10, atol: 1.0e-12}
-sampling: {method: lhs, samples: 80, seed: 11}
+sampling: {method: lhs, samples: 400, seed: 11}
 vary:
   m2: {dist: uniform, low: 0.8, high: 1.2}
   elbow.q0: {dist: normal, mean: 0.2, std: 0.1}
@@ -135,7 +135,7 @@ grep -q "^kanesens: interrupted by SIGTERM: .* kanesens run long.yaml -o term.h5
 [[ ! -e term.h5.partial ]]
 interrupted_ok term.h5
 run long.yaml -o term.h5 --resume >/dev/null
-check status term.h5 80 0 0
+check status term.h5 400 0 0
 check same reference.h5 term.h5
 
 "$KANESENS" run long.yaml -o int.h5 --chunk 1 >/dev/null 2>int.err &
@@ -155,7 +155,7 @@ mkdir -p "$mnt"
 if ! mount -t tmpfs -o size=1m tmpfs "$mnt" 2>/dev/null; then
   echo "test_runtime_faults: ok (full-disk checks skipped: cannot mount a tmpfs here)"; exit 0
 fi
-# (a) the pre-check: 80 samples need ~2.5 MiB with metadata (~1.6 MiB of rows), the tmpfs has 1.
+# (a) the pre-check: 400 samples need ~2.5 MiB with metadata (~1.6 MiB of rows), the tmpfs has 1.
 set +e; run long.yaml -o "$mnt/a.h5" >/dev/null 2>a.err; rc=$?; set -e
 [[ $rc -eq 2 ]] && grep -q "sampling.samples: the output would need about .* but the file system of '$mnt' has" a.err \
   || { echo "FAIL: pre-check (exit $rc)"; cat a.err; exit 1; }
