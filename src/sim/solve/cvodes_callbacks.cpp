@@ -10,72 +10,49 @@ std::string format_time(double t) {
   return buf;
 }
 
-
 int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept {
   CallbackData& cb = data_of(user_data);
-  try {
+  return guarded(cb, "rhs", t, true, [&] {
     double* f = N_VGetArrayPointer(ydot);
     cb.problem->rhs(t, N_VGetArrayPointer(y), f);
     return cb.check_finite("rhs", t, f, cb.n);
-  } catch (const RecoverableError& e) {
-    return cb.recover("rhs", t, e.what());
-  } catch (const std::exception& e) {
-    return cb.fail("rhs", t, e.what());
-  } catch (...) {
-    return cb.fail("rhs", t, "unknown exception");
-  }
+  });
 }
 
 int root_trampoline(sunrealtype t, N_Vector y, sunrealtype* gout, void* user_data) noexcept {
   CallbackData& cb = data_of(user_data);
-  try {
+  return guarded(cb, "event function", t, false, [&] {
     cb.events->g(t, N_VGetArrayPointer(y), gout);
     return 0;
-  } catch (const std::exception& e) {
-    return cb.fail("event function", t, e.what());
-  } catch (...) {
-    return cb.fail("event function", t, "unknown exception");
-  }
+  });
 }
 
 int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user_data, N_Vector,
                    N_Vector, N_Vector) noexcept {
   CallbackData& cb = data_of(user_data);
-  try {
+  return guarded(cb, "jacobian", t, true, [&] {
     // SUNDenseMatrix storage is column-major and contiguous (leading dimension n).
     double* jac = SUNDenseMatrix_Data(J);
     cb.problem->jacobian(t, N_VGetArrayPointer(y), N_VGetArrayPointer(fy), jac);
     return cb.check_finite("jacobian", t, jac, static_cast<long>(cb.n) * cb.n);
-  } catch (const RecoverableError& e) {
-    return cb.recover("jacobian", t, e.what());
-  } catch (const std::exception& e) {
-    return cb.fail("jacobian", t, e.what());
-  } catch (...) {
-    return cb.fail("jacobian", t, "unknown exception");
-  }
+  });
 }
 
 int sens_rhs_trampoline(int /*Ns*/, sunrealtype t, N_Vector y, N_Vector ydot, int iS, N_Vector yS,
                         N_Vector ySdot, void* user_data, N_Vector, N_Vector) noexcept {
   CallbackData& cb = data_of(user_data);
-  try {
+  return guarded(cb, "sensitivity_rhs", t, true, [&] {
     double* sdot = N_VGetArrayPointer(ySdot);
     cb.problem->sensitivity_rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), iS,
                                 N_VGetArrayPointer(yS), sdot);
     return cb.check_finite("sensitivity_rhs", t, sdot, cb.n);
-  } catch (const RecoverableError& e) {
-    return cb.recover("sensitivity_rhs", t, e.what());
-  } catch (const std::exception& e) {
-    return cb.fail("sensitivity_rhs", t, e.what());
-  } catch (...) {
-    return cb.fail("sensitivity_rhs", t, "unknown exception");
-  }
+  });
 }
 
 int sens_rhs_all_trampoline(int Ns, sunrealtype t, N_Vector y, N_Vector ydot, N_Vector* yS, N_Vector* ySdot,
                             void* user_data, N_Vector, N_Vector) noexcept {
   CallbackData& cb = data_of(user_data);
-  try {
+  return guarded(cb, "sensitivity_rhs", t, true, [&] {
     for (int i = 0; i < Ns; ++i) {
       cb.s_in[static_cast<std::size_t>(i)] = N_VGetArrayPointer(yS[i]);
       cb.s_out[static_cast<std::size_t>(i)] = N_VGetArrayPointer(ySdot[i]);
@@ -87,19 +64,13 @@ int sens_rhs_all_trampoline(int Ns, sunrealtype t, N_Vector y, N_Vector ydot, N_
       if (flag != 0) return flag;
     }
     return 0;
-  } catch (const RecoverableError& e) {
-    return cb.recover("sensitivity_rhs", t, e.what());
-  } catch (const std::exception& e) {
-    return cb.fail("sensitivity_rhs", t, e.what());
-  } catch (...) {
-    return cb.fail("sensitivity_rhs", t, "unknown exception");
-  }
+  });
 }
 
 int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
                     void* user_data) noexcept {
   CallbackData& cb = data_of(user_data);
-  try {
+  return guarded(cb, "project", t, false, [&] {
     double* c = N_VGetArrayPointer(corr);
     const int flag = cb.problem->project(t, N_VGetArrayPointer(ycur), c, eps_proj,
                                          err != nullptr ? N_VGetArrayPointer(err) : nullptr);
@@ -113,11 +84,7 @@ int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps
       return flag;
     }
     return cb.check_finite("project", t, c, cb.n);
-  } catch (const std::exception& e) {
-    return cb.fail("project", t, e.what());
-  } catch (...) {
-    return cb.fail("project", t, "unknown exception");
-  }
+  });
 }
 
 void error_handler(int error_code, const char* /*module*/, const char* function, char* msg,

@@ -7,6 +7,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <cmath>
+#include <exception>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -85,6 +86,21 @@ struct CallbackData {
 
 inline CallbackData& data_of(void* user_data) {
   return *static_cast<CallbackData*>(user_data);
+}
+
+// A callback's body, run so that no exception crosses into C: a RecoverableError asks CVODES
+// for a smaller step (+1) where `recoverable`, any other exception stops it (−1) with its message.
+template <class Body>
+int guarded(CallbackData& cb, const char* where, double t, bool recoverable, Body&& body) noexcept {
+  try {
+    return body();
+  } catch (const RecoverableError& e) {
+    return recoverable ? cb.recover(where, t, e.what()) : cb.fail(where, t, e.what());
+  } catch (const std::exception& e) {
+    return cb.fail(where, t, e.what());
+  } catch (...) {
+    return cb.fail(where, t, "unknown exception");
+  }
 }
 
 int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept;

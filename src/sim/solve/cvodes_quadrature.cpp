@@ -10,22 +10,18 @@ namespace {
 
 int quadrature_rhs(sunrealtype t, N_Vector y, N_Vector qdot, void* user_data) noexcept {
   CallbackData& cb = data_of(user_data);
-  try {
+  return guarded(cb, "quadrature", t, false, [&] {
     double* f = N_VGetArrayPointer(qdot);
     cb.quadrature->rhs(t, N_VGetArrayPointer(y), f);
     return cb.check_finite("quadrature", t, f, cb.nquad);
-  } catch (const std::exception& e) {
-    return cb.fail("quadrature", t, e.what());
-  } catch (...) {
-    return cb.fail("quadrature", t, "unknown exception");
-  }
+  });
 }
 
 // All sensitivities at once (CVodeQuadSensInit's form), through pointer arrays sized at build.
 int quadrature_sensitivity_rhs(int ns, sunrealtype t, N_Vector y, N_Vector* yS, N_Vector, N_Vector* qsdot,
                                void* user_data, N_Vector, N_Vector) noexcept {
   CallbackData& cb = data_of(user_data);
-  try {
+  return guarded(cb, "quadrature sensitivity", t, false, [&] {
     std::vector<const double*>& s = cb.quadrature_s;
     std::vector<double*>& out = cb.quadrature_sdot;
     for (int i = 0; i < ns; ++i) {
@@ -38,11 +34,7 @@ int quadrature_sensitivity_rhs(int ns, sunrealtype t, N_Vector y, N_Vector* yS, 
       if (flag != 0) return flag;
     }
     return 0;
-  } catch (const std::exception& e) {
-    return cb.fail("quadrature sensitivity", t, e.what());
-  } catch (...) {
-    return cb.fail("quadrature sensitivity", t, "unknown exception");
-  }
+  });
 }
 
 }  // namespace
