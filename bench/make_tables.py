@@ -162,8 +162,14 @@ def ensemble_table():
                      f"{r['median_wall_s']:.2f}", f"{r['samples_per_s']:.0f}",
                      "—" if r.get("efficiency") is None else f"{r['efficiency']:.2f}",
                      f"{r['hdf5_percent']:.2f} %", f"{r['scheduling_percent']:.2f} %"])
+    b = d.get("big")
+    if b and b.get("wall_s"):
+        rows.append([b["ranks"], b["samples"], f"{b['wall_s']:.2f} (one run)", f"{b['samples_per_s']:.0f}", "—",
+                     f"{b['hdf5_percent']:.2f} %", f"{b['scheduling_percent']:.2f} %"])
     return md(["ranks", "samples", "median wall (s)", "samples/s", "efficiency t1 / (R tR)",
-               "rank time in HDF5 writes", "rank time in scheduling"], rows) + source(p)
+               "rank time in HDF5 writes", "rank time in scheduling"], rows) + \
+        (f"\nFile size at {b['samples']} samples: {b['file_bytes'] / 1e6:.1f} MB ({b['bytes_per_sample']:.0f} bytes per "
+         f"sample); `/usr/bin/time`: {b['time_output']}.\n" if b and b.get("file_bytes") else "") + source(p)
 
 
 # --- docs/peers.md --------------------------------------------------------------------------
@@ -311,6 +317,17 @@ def fourbar_rhs():
               ["---", "---:", "---:"]) + source(FOURBAR)
 
 
+def fourbar_agreement():
+    a = load(FOURBAR)["agreement"]
+    rows = [["Simbody u̇, force on the coupler end", f"{a['simbody_udot_diff']:.1e}", f"{a['simbody_force_diff']:.1e}"],
+            ["MuJoCo qacc, efc_force", f"{a['mujoco_qacc_diff']:.1e}", f"{a['mujoco_force_diff']:.1e}"],
+            ["MuJoCo against kanesens with the J̇u bias set to zero", f"{a['mujoco_qacc_diff_no_bias']:.1e}",
+             f"{a['mujoco_force_diff_no_bias']:.1e}"],
+            ["(scale: max abs u̇, max abs λ of kanesens)", f"{a['max_abs_udot']:.2f}", f"{a['max_abs_multiplier']:.2f}"]]
+    return md(["against kanesens eom at the initial state", "u̇ (rad/s²)", "loop force (N)"], rows,
+              ["---", "---:", "---:"]) + source(FOURBAR)
+
+
 def _fourbar_methods(tta):
     seen = []
     for tool in ("simbody", "mujoco"):
@@ -422,7 +439,7 @@ def wp_summary():
             best = [(t[0], m) for m in methods for t in [time_at(sweeps[m], e)] if t[0] is not None]
             cells.append(f"{min(best)[1]} ({min(best)[0] * 1e3:,.1f})" if best else "none")
         failed = sum(1 for r in runs if not ok(r))
-        rows.append([f"[{name}](#{name.replace('_', '-')})", refd] + cells + [failed])
+        rows.append([f"[{name}](#{name})", refd] + cells + [failed])
     return md(["problem", "reference", "fastest to 1e-4 (ms)", "fastest to 1e-6 (ms)", "fastest to 1e-8 (ms)",
                "failed or diverged runs"], rows, ["---", "---"] + ["---"] * 3 + ["---:"]) + \
         "\n<sub>From `docs/workprecision/*.json` (each records its command); final-time max relative error, " \
@@ -447,7 +464,7 @@ TABLES = {
     "sympy_derivation": sympy_derivation, "sympy_reference": sympy_reference, "sympy_tta": sympy_tta,
     "simbody_rhs": simbody_rhs, "simbody_tta": simbody_tta, "simbody_reference": simbody_reference,
     "fourbar_sympy_derivation": fourbar_sympy_derivation, "fourbar_sympy_tight": fourbar_sympy_tight,
-    "fourbar_sympy_tta": fourbar_sympy_tta, "fourbar_rhs": fourbar_rhs, "fourbar_tta": fourbar_tta,
+    "fourbar_sympy_tta": fourbar_sympy_tta, "fourbar_rhs": fourbar_rhs, "fourbar_agreement": fourbar_agreement, "fourbar_tta": fourbar_tta,
     "fourbar_mujoco": fourbar_mujoco, "wp_summary": wp_summary,
 }
 

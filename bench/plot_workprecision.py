@@ -20,6 +20,7 @@ import json
 import math
 import os
 import sys
+import textwrap
 
 import matplotlib
 
@@ -96,12 +97,13 @@ def panel(ax, data, error_key, work_key, title, max_error, reference=""):
         xlabel += f"\nagainst {reference}"
     ax.set_xlabel(xlabel)
     ax.set_ylabel(LABEL.get(work_key, work_key))
-    ax.set_title(title, fontsize=10)
+    ax.set_title("\n".join(textwrap.wrap(title, 70)) if "\n" not in title else title, fontsize=9)
     ax.grid(True, which="major", alpha=0.4)
     ax.grid(True, which="minor", alpha=0.12)
     if any(not usable(r) for r in rows):
         ax.axvline(fail_x / 2, color="0.6", lw=0.8, ls="--")
-        ax.text(fail_x, ax.get_ylim()[1], "failed", ha="center", va="bottom", fontsize=8, color="0.3")
+        ax.text(fail_x, 0.99, "failed", ha="center", va="top", fontsize=8, color="0.3",
+                transform=ax.get_xaxis_transform())
         ax.set_xlim(min(xmin / 3, fail_x / 10), fail_x * 3)
     if plotted:
         ax.legend(fontsize=8, loc="best")
@@ -119,7 +121,7 @@ def plot_file(path, outdir, error_key, work_key, max_error=10.0, suffix=""):
         refdesc = f"a {rr.get('method', 'bdf-exact')} reference at rtol {rr['rtol']:.0e}"
     else:
         refdesc = f"the reference {ref.get('file', '?')}"
-    title = (f"{os.path.basename(data['study'])} ({data['scene']}): t = {data['t0']:g}..{data['t_end']:g}, "
+    title = (f"{os.path.basename(data['study'])} ({data['scene']}):\nt = {data['t0']:g}..{data['t_end']:g}, "
              f"{data['outputs']} outputs, atol = {data['atol_ratio']:g} rtol"
              + ("\n" + " ".join(data["set"]).replace("solver.constraints.", "") if data.get("set") else ""))
     panel(axes[0][0], data, error_key, work_key, title, max_error, refdesc)
