@@ -23,7 +23,7 @@ TARGETS = [1e-4, 1e-6, 1e-8, 1e-10]
 KS_STYLE = {"bdf": ("black", "D", "-", "kanesens BDF"), "adams": ("tab:gray", "P", "--", "kanesens Adams"),
             "dop853": ("tab:olive", "*", "-.", "kanesens DOP853")}
 SB_STYLE = {"rkm": ("tab:purple", "o", "-", "Simbody RK-Merson"), "rkf": ("tab:pink", "h", "-", "Simbody RK-Feldberg"),
-            "rk3": ("tab:cyan", "<", "-", "Simbody RK3"), "verlet": ("tab:green", ">", ":", "Simbody Verlet"),
+            "rk3": ("goldenrod", "<", "-", "Simbody RK3"), "verlet": ("tab:green", ">", ":", "Simbody Verlet"),
             "cpodes": ("tab:brown", "s", "-", "Simbody CPodes BDF"),
             "cpodes-adams": ("tab:orange", "v", "-", "Simbody CPodes Adams"),
             "cpodes-adams-newton": ("tab:red", "^", "-", "Simbody CPodes Adams/Newton")}
@@ -31,7 +31,7 @@ SCIPY_STYLE = {"RK45": ("tab:blue", "o", "-"), "DOP853": ("tab:orange", "s", "-"
                "LSODA": ("tab:red", "v", "-"), "BDF": ("tab:purple", "<", "-")}
 FB_STYLE = {"bdf/multipliers/projection": ("black", "D", "-"), "adams/multipliers/baumgarte": ("tab:blue", "X", "--"),
             "adams/embedding/none": ("tab:gray", "P", "--"), "bdf/embedding/projection": ("tab:brown", "d", ":"),
-            "dop853/embedding/none": ("tab:olive", "*", "-."), "dop853/multipliers/baumgarte": ("tab:cyan", "p", "-.")}
+            "dop853/embedding/none": ("tab:olive", "*", "-."), "dop853/multipliers/baumgarte": ("darkcyan", "p", "-.")}
 
 
 def _load(p):
