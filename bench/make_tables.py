@@ -407,7 +407,7 @@ def peers_summary():
     rows.append(["Simbody, MuJoCo", "four-bar",
                  ", ".join(f"{p.split()[0]} {v / k:.0f}×" for p, v in rr.items() if not p.startswith("kanesens")),
                  f"{min(ft):,.0f}–{max(ft):,.0f}× (best peer)" if ft else "—", rel(FOURBAR)])
-    return md(["peer", "problem", "RHS time, peer / kanesens", "time to 1e-4 … 1e-10, peer / kanesens", "data"],
+    return md(["peer", "problem", "RHS time, peer / kanesens", "time to the same error (targets 1e-4 … 1e-10 that both reach), peer / kanesens", "data"],
               rows, ["---"] * 5)
 
 
