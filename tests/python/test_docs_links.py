@@ -2,7 +2,7 @@
 
 * Every relative Markdown link or image in README.md and docs/**/*.md points at a file that
   exists; a `#anchor` into a Markdown page names one of its headings (GitHub's heading slugs).
-* Every repository path `docs/....md|png|gif|json` mentioned in any tracked text file (source
+* Every repository path under docs/ (a .md, .png, .gif or .json file) mentioned in any tracked text file (source
   comments, scripts, configs) exists.
 """
 import os
