@@ -85,3 +85,23 @@ def test_page_runs_as_written(page, tmp_path):
         assert r.returncode == 0, (f"{page.relative_to(ROOT)}, block {i + 1} ({lang}) failed "
                                    f"with {r.returncode}:\n{body}\n--- stdout\n{r.stdout[-3000:]}\n"
                                    f"--- stderr\n{r.stderr[-3000:]}")
+
+
+def test_getting_started_lists_the_packages_install_deps_installs():
+    """The apt lists on the getting-started page are tools/install-deps.sh's list (which CI uses),
+    apart from git and libfmt-dev, which the build does not need."""
+    script = (ROOT / "tools/install-deps.sh").read_text(encoding="utf-8")
+    array = re.search(r"^packages=\((.*?)^\)", script, re.S | re.M).group(1)
+    installed = set(re.findall(r"[a-z0-9][a-z0-9.+-]+", re.sub(r"#.*", "", array)))
+    installed |= set(re.findall(r"packages\+=\(([^)]*)\)", script)[0].split())
+    page = (ROOT / "docs/getting-started.md").read_text(encoding="utf-8")
+    section = page.split("## 1. Install the dependencies", 1)[1].split("**Other systems**", 1)[0]
+    shown = set()
+    for block in re.findall(r"```sh\n(.*?)```", section, re.S):
+        for line in re.sub(r"#.*", "", block).replace("\\\n", " ").splitlines():
+            if "apt-get install" in line:
+                shown |= set(line.split("apt-get install", 1)[1].split())
+    shown |= set(re.findall(r"`((?:python3|lib|hdf5)[a-z0-9.+-]*(?: lib[a-z0-9.+-]+)*)`", section))
+    shown = {w for item in shown for w in item.split()}
+    assert sorted(shown - installed) == []
+    assert sorted(installed - shown - {"git", "libfmt-dev"}) == []
