@@ -11,7 +11,7 @@ and reports per speed
     σ² = Σ (∂Re λ/∂p_i)² Var p_i, S_i = (∂Re λ/∂p_i)² Var p_i / σ²), a check of both.
 
     /usr/bin/python3 scripts/bicycle_tolerance.py [--kanesens build/kanesens] [--np 2]
-        [--samples N] [--speeds 5.0 5.9] [--study FILE] [--out JSON]
+        [--samples N] [--speeds 5.0 6.0] [--study FILE] [--out JSON]
 
 writes docs/linearization/bicycle_tolerance.json by default (with the command, the kanesens
 version and the study's tolerances).
@@ -116,7 +116,7 @@ def main(argv=None):
     ap.add_argument("--study", default=str(ROOT / STUDY))
     ap.add_argument("--np", type=int, default=2, dest="nproc")
     ap.add_argument("--samples", type=int, default=0, help="Saltelli base points (default: the study's)")
-    ap.add_argument("--speeds", type=float, nargs="+", default=[5.0, 5.9])
+    ap.add_argument("--speeds", type=float, nargs="+", default=[5.0, 6.0])
     ap.add_argument("--bootstrap", type=int, default=200)
     ap.add_argument("--out", default=str(OUT))
     a = ap.parse_args(argv)
