@@ -5,7 +5,8 @@
     /usr/bin/python3 bench/make_tables.py --check    # exit 1 if a table in the docs differs (no writes)
     /usr/bin/python3 bench/make_tables.py --list     # which table comes from which JSON
 
-A table in docs/benchmarks.md, docs/peers.md or docs/workprecision.md sits between
+A table in docs/benchmarks.md, docs/peers.md, docs/workprecision.md or
+docs/explanation/stability.md sits between
 `<!-- table: NAME -->` and `<!-- /table -->`; NAME is a key of TABLES below, whose function
 makes the markdown from one JSON file written by one driver run (the file names the command
 that made it). Figures (PNG) are drawn from the same files; --check compares tables only.
@@ -24,7 +25,8 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 
-DOCS = [ROOT / "docs" / "benchmarks.md", ROOT / "docs" / "peers.md", ROOT / "docs" / "workprecision.md"]
+DOCS = [ROOT / "docs" / "benchmarks.md", ROOT / "docs" / "peers.md", ROOT / "docs" / "workprecision.md",
+        ROOT / "docs" / "explanation" / "stability.md"]
 RESULTS = HERE / "results"
 PEERS = ROOT / "docs" / "peers"
 WP = ROOT / "docs" / "workprecision"
@@ -446,6 +448,198 @@ def wp_summary():
         "interpolated log-log along each method's sweep.</sub>\n"
 
 
+# --- docs/explanation/stability.md ---------------------------------------------------------
+
+def _wp(name):
+    return WP / f"{name}.json"
+
+
+def _wp_source(name) -> str:
+    d = load(_wp(name))
+    return f"\n<sub>From `{rel(_wp(name))}` (`{d['harness_command']}`); reference {_wp_ref(d)}.</sub>\n"
+
+
+def _wp_ref(d) -> str:
+    r = d.get("reference", {})
+    return f"{r['row']['method']} at rtol {r['row']['rtol']:.0e}" if r.get("kind") == "computed" else "from a file"
+
+
+def _e(v) -> str:
+    return "—" if v is None else f"{v:.1e}"
+
+
+def _status(r) -> str:
+    """'ok' or the failure's code and time (e.g. RK4_NONFINITE at t = 0.05)."""
+    if r["ok"]:
+        return "ok"
+    code = r["message"].split(":")[0].split(" at t = ")[0] or str(r["status"])
+    return code + (f" at t = {r['t_fail']:.3g}" if r.get("t_fail") is not None else "")
+
+
+def _pivot(name, cell, methods=None, corner="method \\ tol") -> str:
+    """Methods by row, tolerances by column (the adaptive methods' sweep); cell(row) -> text."""
+    rows = [r for r in load(_wp(name))["rows"] if r["method"] != "rk4"]
+    methods = methods or list(dict.fromkeys(r["method"] for r in rows))
+    tols = sorted({r["tol"] for r in rows}, reverse=True)
+    at = {(r["method"], r["tol"]): r for r in rows}
+    body = []
+    for m in methods:
+        body.append([f"`{m}`"] + [("skipped" if at[m, t].get("skipped") else cell(at[m, t]) if at[m, t]["ok"]
+                                   else _status(at[m, t])) if (m, t) in at else "" for t in tols])
+    return md([corner] + [f"{t:.0e}" for t in tols], body, ["---"] + ["---:"] * len(tols))
+
+
+def _rk4(name, extra=None) -> str:
+    """RK4 by step size: steps, RHS evaluations, outcome, and an extra column (title, row -> text)."""
+    rows = sorted((r for r in load(_wp(name))["rows"] if r["method"] == "rk4"), key=lambda r: -r["h"])
+    head = ["RK4 h (s)", "steps", "RHS evaluations", "final rel. error or failure"] + ([extra[0]] if extra else [])
+    body = [[f"{r['h']:.2g}", f"{r['steps']:,}", f"{r['rhs_evals_total']:,}",
+             _e(r["final_rel_error"]) if r["ok"] else _status(r)] + ([extra[1](r) if r["ok"] else "—"] if extra else [])
+            for r in rows]
+    return md(head, body)
+
+
+def _steps_err(r) -> str:
+    return f"{r['steps']:,} / {_e(r['final_rel_error'])}"
+
+
+def _rows_ok(name, method):
+    return [r for r in load(_wp(name))["rows"] if r["method"] == method and r["ok"] and not r.get("skipped")]
+
+
+def _span(vals, fmt="{:,.0f}", sep="–") -> str:
+    lo, hi = min(vals), max(vals)
+    return fmt.format(lo) if fmt.format(lo) == fmt.format(hi) else fmt.format(lo) + sep + fmt.format(hi)
+
+
+def stab_summary():
+    """The atlas at a glance: one row per failure mode, every figure from the JSON of its section."""
+    import statistics
+    sw = "chain4_stiff_swing"
+    loose = [1e-4, 1e-5, 1e-6]
+    bdf = {r["tol"]: r for r in _rows_ok(sw, "bdf-exact")}
+    ratio = lambda m: [r["steps"] / bdf[r["tol"]]["steps"] for r in _rows_ok(sw, m) if r["tol"] in loose]
+    eig = load(RESULTS / "chain4_stiff_swing_eigenvalues.json")["eigenvalues"]
+    h_max = 2.83 / max((a * a + b * b) ** 0.5 for a, b in eig)
+    ex = "chain4_stiff"
+    rk4_ok = max(r["h"] for r in _rows_ok(ex, "rk4"))
+    lg = "double_pendulum_long"
+    e_bdf = {r["tol"]: r["energy_drift"] for r in _rows_ok(lg, "bdf-exact")}
+    less = lambda m: [e_bdf[r["tol"]] / r["energy_drift"] for r in _rows_ok(lg, m)]
+    ly = load(_wp("double_pendulum_lyapunov"))
+    rates = [r["sens_growth_rate"] for r in ly["rows"] if r["ok"]] + [ly["reference"]["row"]["sens_growth_rate"]]
+    top = "spinning_top"
+    q = lambda *ms: max(r["quaternion_norm_drift"] / r["rtol"] for m in ms for r in _rows_ok(top, m))
+    cp = load(_wp("constrained_pendulum"))
+    g = max(r["constraint_position_residual"] for r in cp["rows"] if r["ok"] and not r.get("skipped"))
+    rows = [
+        ["stiffness", f"`bench/configs/wp_{sw}.yaml`",
+         f"RK4 for h > {h_max:.1e} (blow-up); Adams needs {_span(ratio('adams-newton') + ratio('adams-functional'))}× BDF's "
+         f"steps, DOP853 {_span(ratio('dop853'))}× (stability-bound; tol 1e-4…1e-6)",
+         f"BDF: {_span([bdf[t]['steps'] for t in loose])} steps (tol 1e-4…1e-6)", "`test_stability_stiff.py`"],
+        ["excited stiff modes", f"`bench/configs/wp_{ex}.yaml`",
+         f"nobody gets large steps (BDF {_span([r['steps'] for r in _rows_ok(ex, 'bdf-exact')])} steps in 1 s)",
+         f"RK4 stable from h = {rk4_ok:.1e}; DOP853 fewest steps ({_span([r['steps'] for r in _rows_ok(ex, 'dop853')])})",
+         "(documented, no test)"],
+        ["long-horizon energy drift", f"`bench/configs/wp_{lg}.yaml`", "BDF loses energy monotonically",
+         f"Adams: {_span(less('adams-newton'))}× less drift; DOP853 {_span(less('dop853'))}× less; RK4 down to "
+         f"{min(r['energy_drift'] for r in _rows_ok(lg, 'rk4')):.1e}", "`test_stability_energy.py`"],
+        ["chaos", "`bench/configs/wp_double_pendulum_chaos.yaml`, `bench/configs/wp_double_pendulum_lyapunov.yaml`",
+         "every trajectory past ~10 s; DQ sensitivities at tol ≤ 1e-9",
+         f"the growth rate of ‖S‖: λ ≈ {statistics.mean(rates):.1f} 1/s", "`test_stability_chaos.py`"],
+        ["quaternion norm drift", f"`bench/configs/wp_{top}.yaml`", "— (bounded)",
+         f"\\|q\\| − 1 ≤ {q('bdf-exact', 'bdf-dq'):.2g}·rtol (BDF), ≤ {q('adams-newton', 'adams-functional'):.2g}·rtol (Adams), "
+         f"≤ {q('dop853'):.2g}·rtol (DOP853), not growing", "`test_stability_quaternion.py`"],
+        ["constraint drift", "`bench/configs/wp_constrained_pendulum.yaml`",
+         "Adams cannot project (BDF and DOP853 do); DQ sensitivities at 1e-10",
+         f"max \\|g\\| ≤ {g:.1e} for every method that runs", "`test_bench_workprecision.py`"],
+    ]
+    return md(["failure mode", "config", "fails", "survives", "test"], rows, ["---"] * 5) + \
+        "\n<sub>From the JSON of the sections below.</sub>\n"
+
+
+def stab_swing_modes():
+    """Stiff swinging chain: the Jacobian's eigenvalues at the start, damping ratios, RK4's step limit."""
+    path = RESULTS / "chain4_stiff_swing_eigenvalues.json"
+    d = load(path)
+    body = []
+    for re_, im in sorted((e for e in d["eigenvalues"] if e[1] > 0), key=lambda e: e[1]):
+        mag = (re_ * re_ + im * im) ** 0.5
+        body.append([f"{re_:.3g} ± {im:,.0f}i" if abs(re_) > 1e-6 else f"0 ± {im:.3g}i", f"{mag:,.0f}" if mag > 10 else f"{mag:.2f}",
+                     f"{-re_ / mag:.3f}" if abs(re_) > 1e-6 else "0", f"{2 * 3.141592653589793 / im:.3g}", f"{2.83 / mag:.2g}"])
+    return (md(["eigenvalue (1/s)", "\\|λ\\| (1/s)", "damping ratio ζ", "period (s)", "RK4 stable for h < 2.83/\\|λ\\| (s)"], body)
+            + f"\n<sub>From `{rel(path)}` (`{d['command']}`).</sub>\n")
+
+
+def stab_stiff_swing():
+    """Stiff swinging chain: steps / final error per method and tolerance; RK4 by step size."""
+    n = "chain4_stiff_swing"
+    return ("Steps / final relative error:\n\n" + _pivot(n, _steps_err) + "\n" + _rk4(n) + _wp_source(n))
+
+
+def stab_stiff_excited():
+    """Chain with excited stiff modes: steps / final error; RK4 by step size."""
+    n = "chain4_stiff"
+    return ("Steps / final relative error:\n\n" + _pivot(n, _steps_err) + "\n" + _rk4(n) + _wp_source(n))
+
+
+def stab_energy():
+    """Long double pendulum: max |E(t) - E(0)| (and steps) per method and tolerance; RK4 by step size."""
+    n = "double_pendulum_long"
+    return ("max \\|E(t) − E(0)\\| (J) / E(end) − E(0) / steps:\n\n"
+            + _pivot(n, lambda r: f"{_e(r['energy_drift'])} / {r['energy_drift_final']:+.1e} / {r['steps']:,}")
+            + "\n" + _rk4(n, ("max \\|E(t) − E(0)\\| (J)", lambda r: _e(r["energy_drift"]))) + _wp_source(n))
+
+
+def stab_chaos():
+    """Chaotic double pendulum over 10 s: final relative error of the state (and of the sensitivities)."""
+    n = "double_pendulum_chaos"
+    cell = lambda r: _e(r["final_rel_error"]) + (f" (S: {_e(r['sens_final_rel_error'])})" if r["with_sens"] else "")
+    return ("Final relative error at 10 s (sensitivity rows: state (sensitivities)):\n\n" + _pivot(n, cell)
+            + "\n" + _rk4(n) + _wp_source(n))
+
+
+def stab_lyapunov():
+    """Chaotic double pendulum over 100 s with sensitivities: errors, ||S(100)||, growth rates."""
+    n = "double_pendulum_lyapunov"
+    d = load(_wp(n))
+    rows = [r for r in d["rows"] if r["ok"]]
+    key = lambda r: (r["method"], -(r["h"] or 0) if r["method"] == "rk4" else -r["tol"])
+    body = [[f"`{r['method']}`", f"h {r['h']:.2g}" if r["method"] == "rk4" else f"{r['tol']:.0e}",
+             _e(r["final_rel_error"]), f"{r['sens_norm_final']:.0e}", f"{r['sens_growth_rate']:.2f}",
+             f"{r['sens_growth_slope']:.2f}"] for r in sorted(rows, key=key)]
+    rates = [r["sens_growth_rate"] for r in rows]
+    ref = d["reference"]["row"]
+    if ref.get("sens_growth_rate") is not None:
+        body.append([f"reference (`{ref['method']}`)", f"{ref['rtol']:.0e}", "—", f"{ref['sens_norm_final']:.0e}",
+                     f"{ref['sens_growth_rate']:.2f}", f"{ref['sens_growth_slope']:.2f}"])
+        rates.append(ref["sens_growth_rate"])
+    import statistics
+    return (md(["method", "tol", "final rel. error", "‖S(100)‖_F", "ln(‖S(100)‖/‖S(0)‖)/100 (1/s)",
+                "slope of ln ‖S‖ over 50–100 s (1/s)"], body, ["---", "---:", "---:", "---:", "---:", "---:"])
+            + f"\nGrowth rate over the {len(rates)} runs: mean {statistics.mean(rates):.2f} 1/s, standard deviation "
+              f"{statistics.stdev(rates):.2f}, range {min(rates):.2f} … {max(rates):.2f}.\n" + _wp_source(n))
+
+
+def stab_quaternion():
+    """Spinning top: max | |q| - 1 | per method and tolerance (and as a multiple of rtol); RK4 by step size."""
+    n = "spinning_top"
+    return ("max \\| \\|q\\| − 1 \\| over 10 s (÷ rtol):\n\n"
+            + _pivot(n, lambda r: f"{_e(r['quaternion_norm_drift'])} ({r['quaternion_norm_drift'] / r['rtol']:.2g})")
+            + "\n" + _rk4(n, ("max \\| \\|q\\| − 1 \\|", lambda r: _e(r["quaternion_norm_drift"]))) + _wp_source(n))
+
+
+def stab_constrained():
+    """Constrained pendulum: max |g| / final error per method and tolerance (sensitivity rows: error of S)."""
+    n = "constrained_pendulum"
+    def cell(r):
+        s = f"{_e(r['constraint_position_residual'])} / {_e(r['final_rel_error'])}"
+        return s + (f" / S {_e(r['sens_final_rel_error'])} ({r['steps']:,} steps)" if r["with_sens"] else "")
+    return ("max \\|g\\| (m) / final relative error (sensitivity rows: / error of the sensitivities):\n\n"
+            + _pivot(n, cell) + "\n"
+            + _rk4(n, ("max \\|g\\| (m)", lambda r: _e(r["constraint_position_residual"]))) + _wp_source(n))
+
+
 def _table_column(table: str, col: int):
     lines = [l for l in table.splitlines() if l.startswith("|")][2:]
     return [l.strip("|").split("|")[col].strip() for l in lines]
@@ -466,6 +660,9 @@ TABLES = {
     "fourbar_sympy_derivation": fourbar_sympy_derivation, "fourbar_sympy_tight": fourbar_sympy_tight,
     "fourbar_sympy_tta": fourbar_sympy_tta, "fourbar_rhs": fourbar_rhs, "fourbar_agreement": fourbar_agreement, "fourbar_tta": fourbar_tta,
     "fourbar_mujoco": fourbar_mujoco, "wp_summary": wp_summary,
+    "stab_summary": stab_summary, "stab_swing_modes": stab_swing_modes, "stab_stiff_swing": stab_stiff_swing, "stab_stiff_excited": stab_stiff_excited, "stab_energy": stab_energy,
+    "stab_chaos": stab_chaos, "stab_lyapunov": stab_lyapunov, "stab_quaternion": stab_quaternion,
+    "stab_constrained": stab_constrained,
 }
 
 

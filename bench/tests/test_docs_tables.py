@@ -1,6 +1,7 @@
 """The benchmark pages' tables are what bench/make_tables.py makes from the committed JSON.
 
-docs/benchmarks.md, docs/peers.md and docs/workprecision.md hold no hand-written table: every
+docs/benchmarks.md, docs/peers.md, docs/workprecision.md and docs/explanation/stability.md hold
+no hand-written table: every
 markdown table sits between `<!-- table: NAME -->` and `<!-- /table -->`, and its text equals
 the generator's output for the JSON it names. Editing a number in a table, or the JSON under it,
 makes this test fail until `bench/make_tables.py` is re-run.
@@ -14,7 +15,7 @@ from pathlib import Path
 
 ROOT = Path(os.environ.get("KANESENS_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 MAKE = ROOT / "bench" / "make_tables.py"
-DOCS = [ROOT / "docs" / n for n in ("benchmarks.md", "peers.md", "workprecision.md")]
+DOCS = [ROOT / "docs" / n for n in ("benchmarks.md", "peers.md", "workprecision.md", "explanation/stability.md")]
 PY = sys.executable
 
 
@@ -54,6 +55,18 @@ def test_an_edited_number_is_caught(tmp_path):
     assert m, "no N = 8 row in the rhs_mujoco table"
     edited = text[:m.start(2)] + "1" + m.group(2) + text[m.end(2):]
     copy.write_text(edited)
+    p = check([copy])
+    assert p.returncode == 1, p.stdout + p.stderr
+    assert "differ" in p.stderr
+
+
+def test_an_edited_stability_figure_is_caught(tmp_path):
+    """The stability atlas too: change BDF's step count in a copy of its stiff-chain table."""
+    copy = tmp_path / "stability.md"
+    text = (ROOT / "docs" / "explanation" / "stability.md").read_text()
+    m = re.search(r"(<!-- table: stab_stiff_swing -->\n(?:.*\n)*?\| `bdf-exact` \| )(\d+)", text)
+    assert m, "no bdf-exact row in the stab_stiff_swing table"
+    copy.write_text(text[:m.start(2)] + str(int(m.group(2)) + 1) + text[m.end(2):])
     p = check([copy])
     assert p.returncode == 1, p.stdout + p.stderr
     assert "differ" in p.stderr
