@@ -5,8 +5,9 @@ projection (rtol 1e-8; docs/explanation/constraints.md, "Drift over a long run")
     /usr/bin/python3 bench/drift_study.py [BUILD_DIR] [--kanesens EXE] [--figure PNG] [--out DIR]
 
 Runs `kanesens simulate configs/four_bar_drift_study.yaml --format json` once per stabilization
-(results in out/drift/<stabilization>.json), prints the markdown table and writes
-docs/figures/constraint_drift.png.
+(results in out/drift/<stabilization>.json), prints the markdown table, writes the figures per
+stabilization to bench/results/drift_study.json (the table of docs/explanation/constraints.md is
+made from it by bench/make_tables.py) and draws docs/figures/constraint_drift.png.
 """
 from __future__ import annotations
 
@@ -29,13 +30,14 @@ def find_kanesens(build: Path) -> Path:
     sys.exit(f"kanesens not found under {build} (build first)")
 
 
-def plot_and_table(runs: dict, png: Path) -> None:
+def plot_and_table(runs: dict, png: Path) -> list:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import numpy as np
 
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    rows = []
     print("| stabilization | max position residual (m) | max velocity residual (m/s) | max abs(E - E0) (J) | steps | "
           "RHS evals | wall (s) |")
     print("|---|---|---|---|---|---|---|")
@@ -48,6 +50,11 @@ def plot_and_table(runs: dict, png: Path) -> None:
         e = np.array(r["outputs"]["energy"])
         de = np.abs(e - e[0])
         st = r["stats"]
+        rows.append({"stabilization": s, "energy_initial": float(e[0]),
+                     "crank_revolutions": float((r["states"][-1][0] - r["states"][0][0]) / (2 * np.pi)),
+                     "max_position_residual": float(pos.max()),
+                     "max_velocity_residual": float(vel.max()), "max_energy_drift": float(de.max()),
+                     "steps": st["steps"], "rhs_evals": st["rhs_evals"], "wall_seconds": st["wall_seconds"]})
         print(f"| {s} | {pos.max():.1e} | {vel.max():.1e} | {de.max():.1e} | {st['steps']} | {st['rhs_evals']} | "
               f"{st['wall_seconds']:.2f} |")
         floor = 1e-17
@@ -65,6 +72,7 @@ def plot_and_table(runs: dict, png: Path) -> None:
     fig.tight_layout()
     fig.savefig(png, dpi=110)
     print(f"\nfigure: {png}")
+    return rows
 
 
 def main(argv=None):
@@ -73,6 +81,8 @@ def main(argv=None):
     ap.add_argument("--kanesens", help="the kanesens executable (default: found in the build directory)")
     ap.add_argument("--out", default=str(c.ROOT / "out" / "drift"), help="directory of the JSON results")
     ap.add_argument("--figure", default=str(c.ROOT / "docs" / "figures" / "constraint_drift.png"))
+    ap.add_argument("--json", default=str(c.ROOT / "bench" / "results" / "drift_study.json"),
+                    help="the per-stabilization figures (committed)")
     a = ap.parse_args(argv)
     exe = Path(a.kanesens) if a.kanesens else find_kanesens(Path(a.build))
     out, png = Path(a.out), Path(a.figure)
@@ -84,7 +94,11 @@ def main(argv=None):
                             "--format", "json"], capture_output=True, text=True, check=True)
         (out / f"{s}.json").write_text(p.stdout)
         runs[s] = json.loads(p.stdout)
-    plot_and_table(runs, png)
+    rows = plot_and_table(runs, png)
+    c.write_json(a.json, {"command": "bench/drift_study.py", "study": str(STUDY.relative_to(c.ROOT)),
+                          "revision": c.git_revision(), "cpu": c.cpu_model(), "nproc": c.nproc(),
+                          "loadavg": c.loadavg(), "rows": rows})
+    print(f"wrote {a.json}")
 
 
 if __name__ == "__main__":

@@ -5,8 +5,8 @@
     /usr/bin/python3 bench/make_tables.py --check    # exit 1 if a table in the docs differs (no writes)
     /usr/bin/python3 bench/make_tables.py --list     # which table comes from which JSON
 
-A table in docs/benchmarks.md, docs/peers.md, docs/workprecision.md or
-docs/explanation/stability.md sits between
+A table in docs/benchmarks.md, docs/peers.md, docs/workprecision.md,
+docs/explanation/stability.md or docs/explanation/constraints.md sits between
 `<!-- table: NAME -->` and `<!-- /table -->`; NAME is a key of TABLES below, whose function
 makes the markdown from one JSON file written by one driver run (the file names the command
 that made it). Figures (PNG) are drawn from the same files; --check compares tables only.
@@ -26,7 +26,7 @@ ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 
 DOCS = [ROOT / "docs" / "benchmarks.md", ROOT / "docs" / "peers.md", ROOT / "docs" / "workprecision.md",
-        ROOT / "docs" / "explanation" / "stability.md"]
+        ROOT / "docs" / "explanation" / "stability.md", ROOT / "docs" / "explanation" / "constraints.md"]
 RESULTS = HERE / "results"
 PEERS = ROOT / "docs" / "peers"
 WP = ROOT / "docs" / "workprecision"
@@ -640,6 +640,56 @@ def stab_constrained():
             + _rk4(n, ("max \\|g\\| (m)", lambda r: _e(r["constraint_position_residual"]))) + _wp_source(n))
 
 
+# --- docs/explanation/constraints.md ----------------------------------------------------------
+
+DRIFT = RESULTS / "drift_study.json"
+CHOICE = HERE / "constraints_choice.json"
+
+
+def constraint_drift():
+    """Crank-rocker four-bar over 100 s per stabilization: residuals, energy drift, cost."""
+    d = load(DRIFT)
+    rows = [[r["stabilization"], f"{r['max_position_residual']:.1e}", f"{r['max_velocity_residual']:.1e}",
+             f"{r['max_energy_drift']:.1e}", f"{r['max_energy_drift'] / r['energy_initial']:.1e}", f"{r['steps']:,}",
+             f"{r['rhs_evals']:,}", f"{r['wall_seconds']:.2f}"] for r in d["rows"]]
+    proj = next(r for r in d["rows"] if r["stabilization"] == "projection")
+    return (md(["stabilization", "max position residual (m)", "max velocity residual (m/s)", "max \\|E − E0\\| (J)",
+                "max \\|E − E0\\|/E0", "steps", "RHS evals", "wall (s)"], rows, ["---"] + ["---:"] * 7)
+            + f"\nE0 = {proj['energy_initial']:.1f} J; the crank turns {proj['crank_revolutions']:,.0f} times in the 100 s "
+              "(projection run).\n"
+            + f"\n<sub>From `{rel(DRIFT)}` (`{d['command']}`, one run each; wall times on a shared 2-core machine).</sub>\n")
+
+
+def _choice_rows(rows):
+    out = []
+    for r in rows:
+        status = "" if r["status"] == 1 else f" (failed: {r['message'][:60]})"
+        out.append([r["case"], r["method"], r["formulation"], r["stabilization"], f"{r['error']:.1e}{status}",
+                    f"{r['energy_drift']:.1e}", f"{r['position_residual']:.1e}", r["steps"], r["rhs_evals"],
+                    r["repartitions"], f"{1e3 * r['wall_median']:.1f}"])
+    return md(["case", "method", "formulation", "stabilization", "error", "energy drift (rel.)",
+               "max contact/position residual", "steps", "RHS evals", "repartitions", "wall (ms, median)"],
+              out, ["---"] * 11)
+
+
+def constraints_choice():
+    """Embedding or multipliers: accuracy, residuals and cost on the constrained examples."""
+    d = load(CHOICE)
+    return _choice_rows(d["choice"]) + f"\n<sub>From `{rel(CHOICE)}` (`{d['command']}`).</sub>\n"
+
+
+def contact_drift():
+    """Contact-height drift of the two-wheeler and the rolling disc per stabilization."""
+    d = load(CHOICE)
+    cases = list(dict.fromkeys(r["case"] for r in d["drift"]))
+    stabs = list(dict.fromkeys(r["stabilization"] for r in d["drift"]))
+    at = {(r["case"], r["stabilization"]): r for r in d["drift"]}
+    rows = [[c] + [f"{at[c, s]['position_residual']:.1e} m" if at[c, s]["status"] == 1 else "failed" for s in stabs]
+            for c in cases]
+    return (md(["scene"] + stabs, rows, ["---"] * (1 + len(stabs)))
+            + f"\n<sub>From `{rel(CHOICE)}` (`{d['command']}`).</sub>\n")
+
+
 def _table_column(table: str, col: int):
     lines = [l for l in table.splitlines() if l.startswith("|")][2:]
     return [l.strip("|").split("|")[col].strip() for l in lines]
@@ -663,6 +713,7 @@ TABLES = {
     "stab_summary": stab_summary, "stab_swing_modes": stab_swing_modes, "stab_stiff_swing": stab_stiff_swing, "stab_stiff_excited": stab_stiff_excited, "stab_energy": stab_energy,
     "stab_chaos": stab_chaos, "stab_lyapunov": stab_lyapunov, "stab_quaternion": stab_quaternion,
     "stab_constrained": stab_constrained,
+    "constraint_drift": constraint_drift, "constraints_choice": constraints_choice, "contact_drift": contact_drift,
 }
 
 
