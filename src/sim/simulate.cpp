@@ -98,6 +98,7 @@ RecordFn recorder(KaneProblem& problem, const RecordFlags& flags, Trajectory& tr
       (*s_ptr)[i] = (*s_full)[i].data();
     }
     const double* const* s = sint ? s_ptr->data() : nullptr;
+    if (outputs && (j == 0 || static_cast<std::size_t>(j) + 1 == schedule->times.size())) outputs->take_end_values(t, y, s);
     if (at) {
       outputs->evaluate(outputs->plan().at, t, y, s);
       outputs->take_at_values(t);
@@ -191,6 +192,8 @@ void simulate(KaneProblem& problem, Integrator& integrator, std::span<const doub
                                      outputs.size() > 0 ? &outputs : nullptr, outputs.events());
   outputs.finish(traj.result.ok(), times.back() - times.front(), traj.scalar_outputs.data(),
                  traj.scalar_output_sensitivities.data());
+  if (const std::string notes = outputs.notes(); !notes.empty())
+    traj.result.message += (traj.result.message.empty() ? "" : "; ") + notes;
   name_failure_cause(problem, traj);
 }
 

@@ -24,11 +24,14 @@ struct OutputSpec {
   sim::EnergyKind energy = sim::EnergyKind::total;
   // `expression:` (kind expression) or `of:` (kind reduction).
   model::ExprText expression;
-  // Reductions: `at: T` / `at: end` or `reduce: integral | mean | rms`.
+  // Reductions: `at: T` / `at: end`, `reduce: integral | mean | rms | max | min | argmax |
+  // argmin`, or `at_event: EVENT` with `occurrence: k` (1-based; default 1).
   sim::Reduction reduce = sim::Reduction::at;
   bool at_end = false;
   double at = 0;
   SourceLocation reduce_where;
+  std::string at_event;
+  long occurrence = 1;
   // An `events:` entry (kind reduction, reduce event; `when:` in expression).
   bool event = false;
   int direction = 0;  // rising +1, falling −1, both 0
