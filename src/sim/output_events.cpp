@@ -191,6 +191,10 @@ void OutputEvaluator::Events::g(double t, const double* y, double* gout) {
     for (std::size_t i = 0; i < ne; ++i) {
       const OutputNode& n = plan.nodes[static_cast<std::size_t>(plan.event_nodes[i])];
       gout[i] = e_.values_[static_cast<std::size_t>(plan.nodes[static_cast<std::size_t>(n.of)].slot)];
+      // A NaN has no sign: the crossing could not be located. Say which event, and where.
+      if (std::isnan(gout[i]))
+        throw std::runtime_error("event '" + n.name + "': 'when' is not a number at t = " + std::to_string(t) +
+                                 " (not defined there)");
     }
   }
   if (plan.extremum_nodes.empty()) return;
@@ -198,6 +202,9 @@ void OutputEvaluator::Events::g(double t, const double* y, double* gout) {
   for (std::size_t j = 0; j < plan.extremum_nodes.size(); ++j) {
     const OutputNode& n = plan.nodes[static_cast<std::size_t>(plan.extremum_nodes[j])];
     gout[ne + j] = e_.dual_values_[static_cast<std::size_t>(plan.nodes[static_cast<std::size_t>(n.of)].slot)].d;
+    if (std::isnan(gout[ne + j]))
+      throw std::runtime_error("output '" + n.name + "': the rate of 'of' is not a number at t = " + std::to_string(t) +
+                               " (not defined there)");
   }
 }
 
