@@ -9,11 +9,13 @@
 //     sensitivities 0), and 5t − x peaks at the final time (sensitivities −∂x(t1)/∂p, closed form);
 //   - the rod pendulum released from θ0: its angular velocity where it falls through zero is
 //     −√((3g/L)(1 − cos θ0)) (energy), also at the second falling crossing, with its L and θ0
-//     derivatives; the event function's own value there is 0 with sensitivities 0; an occurrence
+//     derivatives; the time of that crossing, 5 quarter periods (elliptic integral K); the event function's own value there is 0 with sensitivities 0; an occurrence
 //     that does not happen gives NaN and a note; a value at an event and an interior maximum with
 //     its time against finite differences.
 #include <gtest/gtest.h>
 
+#include <boost/math/special_functions/ellint_1.hpp>
+#include <boost/math/special_functions/ellint_2.hpp>
 #include <cmath>
 #include <complex>
 #include <string>
@@ -161,7 +163,8 @@ TEST_P(AtEvent, PendulumSpeedAtTheBottomAgainstEnergy) {
                                                 "  w1: {of: pivot.u, at_event: down}\n"
                                                 "  w2: {of: pivot.u, at_event: down, occurrence: 2}\n"
                                                 "  w3: {of: pivot.u, at_event: down, occurrence: 3}\n"
-                                                "  q2: {of: pivot.q, at_event: cross, occurrence: 2}\n"),
+                                                "  q2: {of: pivot.q, at_event: cross, occurrence: 2}\n"
+                                                "  t2: {of: t, at_event: down, occurrence: 2}\n"),
                                        "at_event_pendulum_" + GetParam() + ".yaml");
   ASSERT_TRUE(r.traj.result.ok()) << r.traj.result.message;
   const double L = 1.2, theta0 = 0.9;
@@ -175,6 +178,12 @@ TEST_P(AtEvent, PendulumSpeedAtTheBottomAgainstEnergy) {
     EXPECT_NEAR(r.scalar_sens(name, 0), dw_dL, 1e-7);
     EXPECT_NEAR(r.scalar_sens(name, 1), dw_dtheta0, 1e-7);
   }
+  // The second falling crossing at five quarter periods, K(sin(θ0/2))·√(2L/(3g)) each.
+  const double k = std::sin(theta0 / 2), K = boost::math::ellint_1(k), E = boost::math::ellint_2(k);
+  const double scale = std::sqrt(2 * L / (3 * g)), tau = K * scale;
+  EXPECT_NEAR(r.scalar("t2"), 5 * tau, 5e-8);
+  EXPECT_NEAR(r.scalar_sens("t2", 0), 5 * tau / (2 * L), 5e-7);
+  EXPECT_NEAR(r.scalar_sens("t2", 1), 5 * scale * (E / (k * (1 - k * k)) - K / k) * std::cos(theta0 / 2) / 2, 5e-7);
   // The event function at its own event: 0, and s_q + q̇·dτ/dp = 0.
   EXPECT_NEAR(r.scalar("q2"), 0.0, 1e-10);
   EXPECT_NEAR(r.scalar_sens("q2", 0), 0.0, 1e-8);
