@@ -184,6 +184,7 @@ RunFile::RunFile(std::string path, File file, const RunLayout& l)
   }
   if (has_poses(l)) poses_ = open(kPosesPath);
   for (const auto& name : l.stat_names) stats_.push_back(open(stat_path(name)));
+  stopped_at_ = open(kStoppedAtPath);
   message_ = open(kMessagePath);
   status_ = open(kStatusPath);
 }
@@ -249,6 +250,7 @@ void RunFile::write_sample(const SampleRow& row) {
   for (std::size_t k = 0; k < stats_.size(); ++k) {
     write_row(stats_[k], "/solver_stats", f64, row.stats.data() + k, i);
   }
+  write_row(stopped_at_, kStoppedAtPath, f64, &row.stopped_at, i);
   std::vector<char> message(message_size, '\0');
   const std::string fitted = fit_utf8(row.message, message_size);
   std::memcpy(message.data(), fitted.data(), fitted.size());
@@ -276,6 +278,7 @@ void SampleBlock::append(const SampleRow& row) {
                                      row.scalar_output_sensitivities.end());
   poses.insert(poses.end(), row.poses.begin(), row.poses.end());
   stats.insert(stats.end(), row.stats.begin(), row.stats.end());
+  stopped_at.push_back(row.stopped_at);
 }
 
 void RunFile::write_samples(const SampleBlock& b) {
@@ -299,6 +302,7 @@ void RunFile::write_samples(const SampleBlock& b) {
               un * scalar_output_sensitivities_.size() * noutput_sensitivity_, "scalar output sensitivities", first);
   expect_size(bool(poses_), b.poses.size(), un * ntime_ * nbody_ * 7, "poses", first);
   expect_size(true, b.stats.size(), un * stats_.size(), "stats", first);
+  expect_size(true, b.stopped_at.size(), un, "stopped_at", first);
   const hid_t f64 = H5T_NATIVE_DOUBLE;
   if (parameters_) write_rows(parameters_, "/parameters", f64, b.parameters.data(), first, n);
   write_rows(initial_state_, "/initial_state", f64, b.initial_state.data(), first, n);
@@ -329,6 +333,7 @@ void RunFile::write_samples(const SampleBlock& b) {
     for (std::size_t s = 0; s < un; ++s) column[s] = b.stats[s * stats_.size() + k];
     write_rows(stats_[k], "/solver_stats", f64, column.data(), first, n);
   }
+  write_rows(stopped_at_, kStoppedAtPath, f64, b.stopped_at.data(), first, n);
   std::vector<char> messages(un * message_size, '\0');
   for (std::size_t s = 0; s < un; ++s) {
     const std::string fitted = fit_utf8(b.message[s], message_size);
@@ -378,6 +383,7 @@ void RunFile::abandon() noexcept {
   for (auto& d : scalar_output_sensitivities_) d.abandon();
   poses_.abandon();
   for (auto& d : stats_) d.abandon();
+  stopped_at_.abandon();
   message_.abandon();
   status_.abandon();
   independent_.abandon();
@@ -402,6 +408,7 @@ void RunFile::close() {
   scalar_output_sensitivities_.clear();
   poses_.reset();
   stats_.clear();
+  stopped_at_.reset();
   message_.reset();
   status_.reset();
   independent_.reset();

@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <span>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -77,6 +78,7 @@ struct SampleRow {
   std::span<const double> output_sensitivities;         // [noutput_sens × T × S], [output][time][sens]
   std::span<const double> scalar_output_sensitivities;  // [nscalar_sens × S]
   std::span<const double> poses;          // [T × nbody × 7], [time][body][pose]
+  double stopped_at = std::numeric_limits<double>::quiet_NaN();  // an event's stop time, NaN if none
 };
 
 // Consecutive samples first .. first+count−1, flat in sample order (each entry as in SampleRow,
@@ -87,7 +89,9 @@ struct SampleBlock {
   std::vector<std::string> message;
   std::vector<double> parameters, initial_state, states, multipliers, sensitivities, outputs, stats;
   std::vector<double> scalar_outputs, output_sensitivities, scalar_output_sensitivities, poses;
+  std::vector<double> stopped_at;
   void clear() {
+    stopped_at.clear();
     scalar_outputs.clear();
     output_sensitivities.clear();
     scalar_output_sensitivities.clear();
@@ -160,6 +164,7 @@ class RunFile {
   std::size_t ntime_ = 0, nstate_ = 0, nparameter_ = 0, nconstraint_ = 0, nsensitivity_ = 0;
   std::size_t noutput_sensitivity_ = 0, nbody_ = 0;  // the sensitivity dimension of /output_sensitivities
   Dataset parameters_, initial_state_, states_, multipliers_, sensitivities_, poses_;
+  Dataset stopped_at_;
   std::vector<Dataset> outputs_, stats_, scalar_outputs_, output_sensitivities_, scalar_output_sensitivities_;
   Dataset message_, status_;
 };

@@ -67,6 +67,7 @@ std::vector<Variable> float_variables(const RunLayout& l) {
   }
   if (has_poses(l)) vars.push_back({kPosesPath, {"sample", "time", "body", "pose"}});
   for (const auto& name : l.stat_names) vars.push_back({stat_path(name), {"sample"}});
+  vars.push_back({kStoppedAtPath, {"sample"}});
   return vars;
 }
 

@@ -69,6 +69,7 @@ inline std::string output_sensitivity_path(const std::string& name) {
   return "/output_sensitivities/" + name;
 }
 inline constexpr const char* kPosesPath = "/poses";
+inline constexpr const char* kStoppedAtPath = "/stopped_at";
 inline std::string stat_path(const std::string& name) {
   return "/solver_stats/" + name;
 }
