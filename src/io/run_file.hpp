@@ -52,6 +52,10 @@ struct RunLayout {
   std::vector<std::string> output_sensitivity_names, scalar_output_sensitivity_names;
   std::vector<std::string> body_names;         // [nbody], for /poses
   std::vector<std::string> stat_names;         // e.g. "steps", "rhs_evals", "wall_seconds"
+  // The study's events, /events/<name>/time (sample, occurrence), count (sample) and, with
+  // output sensitivities, time_sensitivities (sample, occurrence, sensitivity).
+  std::vector<std::string> event_names;
+  std::size_t event_occurrences = 0;           // [W], the occurrence dimension
   std::int64_t nsamples = 0;
   bool record_states = true, record_sensitivities = false, record_multipliers = false;
   bool record_poses = false;                   // /poses (sample, time, body, pose)
@@ -79,6 +83,9 @@ struct SampleRow {
   std::span<const double> scalar_output_sensitivities;  // [nscalar_sens × S]
   std::span<const double> poses;          // [T × nbody × 7], [time][body][pose]
   double stopped_at = std::numeric_limits<double>::quiet_NaN();  // an event's stop time, NaN if none
+  std::span<const double> event_times;              // [nevent × W], [event][occurrence]
+  std::span<const double> event_time_sensitivities;  // [nevent × W × S]
+  std::span<const double> event_counts;             // [nevent]
 };
 
 // Consecutive samples first .. first+count−1, flat in sample order (each entry as in SampleRow,
@@ -89,9 +96,12 @@ struct SampleBlock {
   std::vector<std::string> message;
   std::vector<double> parameters, initial_state, states, multipliers, sensitivities, outputs, stats;
   std::vector<double> scalar_outputs, output_sensitivities, scalar_output_sensitivities, poses;
-  std::vector<double> stopped_at;
+  std::vector<double> stopped_at, event_times, event_time_sensitivities, event_counts;
   void clear() {
     stopped_at.clear();
+    event_times.clear();
+    event_time_sensitivities.clear();
+    event_counts.clear();
     scalar_outputs.clear();
     output_sensitivities.clear();
     scalar_output_sensitivities.clear();
@@ -165,6 +175,8 @@ class RunFile {
   std::size_t noutput_sensitivity_ = 0, nbody_ = 0;  // the sensitivity dimension of /output_sensitivities
   Dataset parameters_, initial_state_, states_, multipliers_, sensitivities_, poses_;
   Dataset stopped_at_;
+  std::vector<Dataset> event_times_, event_time_sensitivities_, event_counts_;
+  std::size_t nevent_occurrences_ = 0;
   std::vector<Dataset> outputs_, stats_, scalar_outputs_, output_sensitivities_, scalar_output_sensitivities_;
   Dataset message_, status_;
 };

@@ -31,7 +31,9 @@ OutputEvaluator::OutputEvaluator(const OutputPlan& plan, KaneProblem& problem)
       quadrature_tangents_(plan.quadrature_nodes.size() * static_cast<std::size_t>(ns_), kNaN),
       s_full_ptr_(static_cast<std::size_t>(ns_)),
       dtau_(static_cast<std::size_t>(ns_)),
-      best_(plan.extremum_nodes.size(), kNaN) {
+      best_(plan.extremum_nodes.size(), kNaN),
+      occurrence_times_(plan.event_nodes.size() * static_cast<std::size_t>(plan.event_occurrences), kNaN),
+      occurrence_tangents_(occurrence_times_.size() * static_cast<std::size_t>(ns_), kNaN) {
   for (int i = 0; i < ns_; ++i) s_full_ptr_[static_cast<std::size_t>(i)] = s_full_[static_cast<std::size_t>(i)].data();
 }
 
@@ -39,6 +41,8 @@ void OutputEvaluator::start() {
   std::fill(values_.begin(), values_.end(), kNaN);
   std::fill(tangents_.begin(), tangents_.end(), kNaN);
   std::fill(best_.begin(), best_.end(), kNaN);
+  std::fill(occurrence_times_.begin(), occurrence_times_.end(), kNaN);
+  std::fill(occurrence_tangents_.begin(), occurrence_tangents_.end(), kNaN);
   for (int v : plan_.event_nodes) {  // NAME.time NaN until it happens, NAME.count 0
     const std::size_t count = static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(v)].slot + 1);
     values_[count] = 0;

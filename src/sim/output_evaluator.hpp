@@ -56,6 +56,9 @@ class OutputEvaluator final : public OdeQuadrature {
   // After the integration: what the sample's user should know about NaN results ("" if nothing),
   // e.g. an at_event output whose event did not occur k times.
   std::string notes() const;
+  // After the integration: every event's kept occurrence times (nevent × W, W =
+  // plan.event_occurrences, NaN-padded), their sensitivities (nevent × W × ns) and counts (nevent).
+  void event_records(double* times, double* time_tangents, double* counts) const;
 
  private:
   class Events final : public OdeEvents {
@@ -106,6 +109,7 @@ class OutputEvaluator final : public OdeQuadrature {
   std::vector<const double*> s_full_ptr_;         // ns pointers into s_full_
   std::vector<double> dtau_;                      // ns: an event time's sensitivities
   std::vector<double> best_;                      // per extremum: its series' best value so far
+  std::vector<double> occurrence_times_, occurrence_tangents_;  // nevent × W, nevent × W × ns
   std::vector<double> y_shift_, sdot_, s_shift_;  // argextremum_tangents: y + δẏ, ṡ (ns × n), s + δṡ
   std::vector<const double*> sdot_in_;            // ns pointers into s_shift_
   std::vector<double*> sdot_out_;                 // ns pointers into sdot_

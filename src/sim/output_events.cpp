@@ -1,6 +1,7 @@
 // The parts of OutputEvaluator the integrator drives through its event functions: the study's
 // events (times, counts, values at events) and the extrema of series outputs, located as the
 // roots of their rates on the solver's continuous solution, with their sensitivities.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -222,13 +223,18 @@ bool OutputEvaluator::Events::occurred(int i, double t, const double* y, const d
   e_.values_[count] += 1;
   const long c = static_cast<long>(e_.values_[count]);
   const int ns = e_.ns_;
+  const bool keep = c <= n.recorded_times;  // kept for /events/NAME/time
+  if (ns > 0 && s && (keep || c == 1)) e_.event_time_tangents(n, t, y, s);
+  if (keep) {
+    const std::size_t at = static_cast<std::size_t>(i) * static_cast<std::size_t>(plan.event_occurrences) + static_cast<std::size_t>(c - 1);
+    e_.occurrence_times_[at] = t;
+    for (int k = 0; ns > 0 && s && k < ns; ++k)
+      e_.occurrence_tangents_[at * static_cast<std::size_t>(ns) + static_cast<std::size_t>(k)] = e_.dtau_[static_cast<std::size_t>(k)];
+  }
   if (c == 1) {
     e_.values_[time] = t;
-    if (ns > 0 && s) {
-      e_.event_time_tangents(n, t, y, s);
-      for (int k = 0; k < ns; ++k)
-        e_.tangents_[time * static_cast<std::size_t>(ns) + static_cast<std::size_t>(k)] = e_.dtau_[static_cast<std::size_t>(k)];
-    }
+    for (int k = 0; ns > 0 && s && k < ns; ++k)
+      e_.tangents_[time * static_cast<std::size_t>(ns) + static_cast<std::size_t>(k)] = e_.dtau_[static_cast<std::size_t>(k)];
   }
   e_.take_at_event_values(node, c, t, y, s);
   if (c != 1 || !n.stop) return false;
@@ -251,6 +257,17 @@ std::string OutputEvaluator::notes() const {
            std::to_string(n.occurrence);
   }
   return out;
+}
+
+}  // namespace kanesens::sim
+
+namespace kanesens::sim {
+
+void OutputEvaluator::event_records(double* times, double* time_tangents, double* counts) const {
+  std::copy(occurrence_times_.begin(), occurrence_times_.end(), times);
+  std::copy(occurrence_tangents_.begin(), occurrence_tangents_.end(), time_tangents);
+  for (std::size_t i = 0; i < plan_.event_nodes.size(); ++i)
+    counts[i] = values_[static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(plan_.event_nodes[i])].slot + 1)];
 }
 
 }  // namespace kanesens::sim

@@ -113,6 +113,7 @@ OutputProgram program_of(const OutputPlan& plan, const std::vector<int>& starts)
 void finish_output_plan(OutputPlan& plan, const std::vector<int>& user_order) {
   std::vector<int> record_starts, at_starts, integrand_starts, event_starts, extremum_starts, at_event_starts;
   plan.event_nodes.clear();
+  plan.event_occurrences = 0;
   plan.extremum_nodes.clear();
   plan.at_event_nodes.clear();
   plan.at_times.clear();
@@ -137,6 +138,7 @@ void finish_output_plan(OutputPlan& plan, const std::vector<int>& user_order) {
       } else if (node.reduce == Reduction::event) {
         event_starts.push_back(node.of);
         plan.event_nodes.push_back(static_cast<int>(v));
+        plan.event_occurrences = std::max(plan.event_occurrences, node.recorded_times);
       } else if (is_extremum(node.reduce)) {
         extremum_starts.push_back(node.of);
         plan.extremum_nodes.push_back(static_cast<int>(v));

@@ -68,6 +68,7 @@ struct OutputNode {
   int direction = 0;                             //   event: +1 rising, −1 falling, 0 both
   bool stop = false;                             //   event: its first occurrence ends the sample
   long max_count = 0;                            //   event: occurrences counted at most
+  long recorded_times = 0;                       //   event: occurrence times kept (/events/NAME/time)
   int event = -1;                                //   at_event: the event node
   long occurrence = 1;                           //   at_event: which occurrence (1 = the first)
 };
@@ -92,6 +93,7 @@ struct OutputPlan {
   OutputProgram integrands;  // inside the integration: the series integral/mean/rms read
   OutputProgram events;      // inside the integration: the event functions
   std::vector<int> event_nodes;          // the event nodes (Reduction::event), in node order
+  long event_occurrences = 0;            // the most occurrence times an event keeps (0: no events)
   OutputProgram extrema;                 // at the roots of their rates and the ends: the series extrema read
   std::vector<int> extremum_nodes;       // the max, min, argmax, argmin nodes, in node order
   OutputProgram at_event;                // at events: the series at_event reductions read

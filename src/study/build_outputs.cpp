@@ -127,6 +127,7 @@ struct Builder {
         n.direction = o.direction;
         n.stop = o.stop;
         n.max_count = o.max_count;
+        n.recorded_times = o.recorded_times;
         n.occurrence = o.occurrence;
         break;
       }

@@ -37,6 +37,7 @@ struct OutputSpec {
   int direction = 0;  // rising +1, falling −1, both 0
   bool stop = false;  // action: stop
   long max_count = 0;
+  long recorded_times = 0;  // occurrence times kept: max_count if given, else 100
   // The key its messages name: "outputs.NAME" or "events.NAME".
   std::string key() const { return (event ? "events." : "outputs.") + name; }
 };

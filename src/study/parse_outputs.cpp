@@ -163,9 +163,13 @@ std::vector<OutputSpec> parse_events(const YAML::Node& node, const model::YamlRe
     if (n["action"])
       o.stop = r.read_choice<bool>(n["action"], key + ".action", {{"record", false}, {"stop", true}});
     o.max_count = 1000000;
+    o.recorded_times = 100;
     if (n["max_count"]) {
       o.max_count = static_cast<long>(r.read_integer(n["max_count"], key + ".max_count"));
       if (o.max_count < 1) r.fail(n["max_count"], key + ".max_count", "expected a whole number >= 1, found " + model::describe(n["max_count"]));
+      if (o.max_count > 100000)
+        r.fail(n["max_count"], key + ".max_count", "at most 100000 (each occurrence's time is kept per sample); leave it out to count without a limit and keep the first 100 times");
+      o.recorded_times = o.max_count;
     }
     out.push_back(std::move(o));
   }

@@ -104,6 +104,20 @@ def events(path):
     stopped = np.isfinite(stop)
     assert 0 < stopped.sum() < len(stop), stopped
     assert np.array_equal(count, stopped.astype(float))
+    with h5py.File(path, "r") as f:
+        # /events/<name>: the first occurrence is NAME.time, the count NAME.count, NaN-padded rows.
+        for name in ("low", "cross"):
+            times = f[f"events/{name}/time"][()]
+            n = f[f"events/{name}/count"][()]
+            assert times.shape == (len(stop), f["occurrence"].shape[0])
+            assert np.array_equal(times[:, 0], f[f"outputs/{name}.time"][()], equal_nan=True), name
+            assert np.array_equal(n, f[f"outputs/{name}.count"][()]), name
+            assert np.array_equal(f[f"events/{name}/time_sensitivities"][:, 0, :],
+                                  f[f"output_sensitivities/{name}.time"][()], equal_nan=True), name
+            for i in range(len(stop)):
+                assert np.all(np.isfinite(times[i, :int(n[i])])) and np.all(np.isnan(times[i, int(n[i]):])), (name, i)
+                assert np.all(np.diff(times[i, :int(n[i])]) > 0), (name, i)
+        assert np.array_equal(f["events/low/time"][:, 0], stop, equal_nan=True)
     for i in range(len(stop)):
         after = t > stop[i] if stopped[i] else np.zeros(len(t), bool)
         assert np.all(np.isnan(states[i][after])) and np.all(np.isfinite(states[i][~after])), i

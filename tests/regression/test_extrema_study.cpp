@@ -184,6 +184,26 @@ TEST_P(AtEvent, PendulumSpeedAtTheBottomAgainstEnergy) {
   EXPECT_NEAR(r.scalar("t2"), 5 * tau, 5e-8);
   EXPECT_NEAR(r.scalar_sens("t2", 0), 5 * tau / (2 * L), 5e-7);
   EXPECT_NEAR(r.scalar_sens("t2", 1), 5 * scale * (E / (k * (1 - k * k)) - K / k) * std::cos(theta0 / 2) / 2, 5e-7);
+  // Every crossing's time (the HDF5 /events/cross/time row): (2k − 1) quarter periods, with
+  // (2k − 1) times the quarter period's sensitivities; NaN after the last.
+  const auto& plan = r.plan();
+  std::size_t e = 0;
+  while (plan.nodes[static_cast<std::size_t>(plan.event_nodes[e])].name != "cross") ++e;
+  const std::size_t W = static_cast<std::size_t>(plan.event_occurrences);
+  ASSERT_EQ(W, 100u);  // max_count not given: the first 100 are kept
+  const int crossings = static_cast<int>(r.scalar("cross.count"));
+  ASSERT_GE(crossings, 3);
+  EXPECT_EQ(r.traj.event_counts[e], crossings);
+  for (int k = 1; k <= crossings + 1; ++k) {
+    const double tk = r.traj.event_times[e * W + static_cast<std::size_t>(k - 1)];
+    const double sk = r.traj.event_time_sensitivities[(e * W + static_cast<std::size_t>(k - 1)) * 2];
+    if (k > crossings) {
+      EXPECT_TRUE(std::isnan(tk) && std::isnan(sk)) << k;
+      continue;
+    }
+    EXPECT_NEAR(tk, (2 * k - 1) * tau, 5e-8) << k;
+    EXPECT_NEAR(sk, (2 * k - 1) * tau / (2 * L), 5e-7) << k;
+  }
   // The event function at its own event: 0, and s_q + q̇·dτ/dp = 0.
   EXPECT_NEAR(r.scalar("q2"), 0.0, 1e-10);
   EXPECT_NEAR(r.scalar_sens("q2", 0), 0.0, 1e-8);
