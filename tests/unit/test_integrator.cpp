@@ -481,6 +481,43 @@ TEST(IntegratorFailure, RecoverableErrorRetriesTheStep) {
   EXPECT_LT(max_abs_diff(tr, ref), 1e-8);
 }
 
+namespace {
+// ∫ x² dt alongside the oscillator; calls 20–22 cannot be evaluated (RecoverableError) when
+// `faulty`, as an integral output of a trial state where u̇ is undefined would.
+class SquareIntegral : public ks::OdeQuadrature {
+ public:
+  explicit SquareIntegral(bool faulty) : faulty_(faulty) {}
+  int size() const override { return 1; }
+  void rhs(double, const double* y, double* qdot) override {
+    ++calls_;
+    if (faulty_ && calls_ >= 20 && calls_ <= 22) throw ks::RecoverableError("integrand undefined");
+    qdot[0] = y[0] * y[0];
+  }
+  void sensitivity_rhs(double, const double*, int, const double* const*, double* const*) override {}
+  void record(int, double, const double* q, const double* const*) override { last = q[0]; }
+  double last = 0;
+
+ private:
+  bool faulty_;
+  long calls_ = 0;
+};
+}  // namespace
+
+// The same holds for an integral output: its RecoverableError is +1 (a smaller step), not a failure.
+TEST(IntegratorFailure, RecoverableErrorInAQuadratureRetriesTheStep) {
+  Oscillator osc, clean;
+  osc.with_sens = clean.with_sens = false;
+  SquareIntegral faulty(true), ok(false);
+  ks::Integrator a(tight()), b(tight());
+  const auto noop = [](int, double, const double*, const double* const*) {};
+  const ks::IntegrationResult r = a.integrate(osc, kTimes, noop, &faulty);
+  const ks::IntegrationResult ref = b.integrate(clean, kTimes, noop, &ok);
+  ASSERT_TRUE(r.ok()) << r.message;
+  ASSERT_TRUE(ref.ok()) << ref.message;
+  EXPECT_EQ(r.stats.callback_recoverable, 3);
+  EXPECT_NEAR(faulty.last, ok.last, 1e-7 * std::abs(ok.last));
+}
+
 // Only when smaller steps do not help does the sample fail, with the reason in its message.
 TEST(IntegratorFailure, PersistentRecoverableErrorFailsWithItsMessage) {
   Faulty f(Faulty::Fault::recoverable_after_t1);

@@ -10,7 +10,7 @@ namespace {
 
 int quadrature_rhs(sunrealtype t, N_Vector y, N_Vector qdot, void* user_data) noexcept {
   CallbackData& cb = data_of(user_data);
-  return guarded(cb, "quadrature", t, false, [&] {
+  return guarded(cb, "quadrature", t, true, [&] {
     double* f = N_VGetArrayPointer(qdot);
     cb.quadrature->rhs(t, N_VGetArrayPointer(y), f);
     return cb.check_finite("quadrature", t, f, cb.nquad);
@@ -21,7 +21,7 @@ int quadrature_rhs(sunrealtype t, N_Vector y, N_Vector qdot, void* user_data) no
 int quadrature_sensitivity_rhs(int ns, sunrealtype t, N_Vector y, N_Vector* yS, N_Vector, N_Vector* qsdot,
                                void* user_data, N_Vector, N_Vector) noexcept {
   CallbackData& cb = data_of(user_data);
-  return guarded(cb, "quadrature sensitivity", t, false, [&] {
+  return guarded(cb, "quadrature sensitivity", t, true, [&] {
     std::vector<const double*>& s = cb.quadrature_s;
     std::vector<double*>& out = cb.quadrature_sdot;
     for (int i = 0; i < ns; ++i) {
