@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Embedding or multipliers, and the drift of rolling contacts: cost and accuracy measured on the
-examples (docs/constraints.md, "Choosing a formulation" and "Rolling contacts").
+examples (docs/explanation/constraints.md, "Choosing a formulation" and "Rolling contacts").
 
     /usr/bin/python3 bench/constraints_choice.py [BUILD_DIR] [--repeat R] [--out JSON]
 

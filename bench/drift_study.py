@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Constraint drift of the crank-rocker four-bar over 100 s with stabilization none / baumgarte /
-projection (rtol 1e-8; docs/constraints.md, "Drift over a long run").
+projection (rtol 1e-8; docs/explanation/constraints.md, "Drift over a long run").
 
     /usr/bin/python3 bench/drift_study.py [BUILD_DIR] [--kanesens EXE] [--figure PNG] [--out DIR]
 

@@ -4,7 +4,7 @@
 # LeakSanitizer on: the CVODES wrappers (test_integrator) and the HDF5 wrappers (test_run_file,
 # test_hdf5_text) must not leak. tests/lsan.supp suppresses leaks inside third-party internals
 # only (Open MPI / PMIx / hwloc start-up); kanesens's own handles are never suppressed.
-# Only the unit-test targets are built (see docs/reliability.md for the CI time budget).
+# Only the unit-test targets are built (see docs/explanation/reliability.md for the CI time budget).
 # Extra arguments go to ctest, e.g. tools/sanitize.sh -R BadInput
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)

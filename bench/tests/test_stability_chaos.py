@@ -1,4 +1,4 @@
-"""Stability atlas (docs/stability.md), chaos: the double pendulum released from shoulder = 2 rad
+"""Stability atlas (docs/explanation/stability.md), chaos: the double pendulum released from shoulder = 2 rad
 (bench/configs/wp_double_pendulum_lyapunov.yaml), sensitivities to both initial angles, 40 s. The norm
 of the sensitivity matrix grows like exp(lambda t): ln ||S(t)||_F / t estimates the largest
 Lyapunov exponent. Pinned: the growth rate is positive and about 1.3 1/s (0.8..2) for BDF,

@@ -1,4 +1,4 @@
-"""Stability atlas (docs/stability.md), long-horizon energy drift: the regular double pendulum
+"""Stability atlas (docs/explanation/stability.md), long-horizon energy drift: the regular double pendulum
 (bench/configs/wp_double_pendulum_long.yaml: no spring, no damping, so T + V is conserved), 200 s
 (~140 swings of the lower rod). Pinned: BDF loses energy steadily (its numerical damping: the
 drift at the end is negative and is the largest deviation), Adams–Moulton's drift is several

@@ -1,4 +1,4 @@
-"""Stability atlas (docs/stability.md), quaternion norm drift: the fast heavy top
+"""Stability atlas (docs/explanation/stability.md), quaternion norm drift: the fast heavy top
 (bench/configs/wp_spinning_top.yaml: spherical joint, spin 100 rad/s). With the stabilisation term
 kappa (1 - |q|^2) q in the kinematic equation, | |q| - 1 | stays within a small multiple of rtol
 for BDF and Adams, and does not grow with time (10 s vs 40 s), while the energy error does."""

@@ -1,4 +1,4 @@
-"""Stability atlas (docs/stability.md), stiffness: the 4-link chain swinging about its free first
+"""Stability atlas (docs/explanation/stability.md), stiffness: the 4-link chain swinging about its free first
 joint while springs k = 1e6 N m/rad, c = 10 hold the others (bench/configs/wp_chain4_stiff_swing.yaml,
 started on the slow manifold), 0.5 s. The Jacobian's largest eigenvalue is -164 +/- 5718i 1/s,
 so RK4 is stable only for h below about 2.8/5720 = 4.9e-4 s.

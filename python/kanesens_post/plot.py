@@ -13,7 +13,7 @@ import yaml  # noqa: E402
 from .io import RunFileError, response, state_sensitivities  # noqa: E402
 
 MAX_PANELS = 6
-#: joint type -> {state-name suffix: unit} (docs/scene-format.md, "Joint coordinates")
+#: joint type -> {state-name suffix: unit} (docs/reference/scene.md, "Joint coordinates")
 JOINT_UNITS = {
     "revolute": {"q": "rad", "u": "rad/s"},
     "prismatic": {"q": "m", "u": "m/s"},

@@ -1,5 +1,5 @@
 // Constraints Σ_k a_jk(q,t) u_k + a_j0(q,t) = 0 and the augmented solve with Lagrange
-// multipliers (docs/constraints.md):
+// multipliers (docs/explanation/constraints.md):
 //     M u̇ = f + Aᵀλ,   A u̇ = −(Ȧu + ȧ0)  =: b
 // solved as u̇ = M⁻¹f + M⁻¹Aᵀλ with (A M⁻¹ Aᵀ) λ = b − A M⁻¹ f. A M⁻¹ Aᵀ is factored by a
 // pivoted Cholesky; when constraints are redundant (rank r < m) λ is the minimum-norm solution.

@@ -3,7 +3,7 @@
 // poses, tests). Whatever frames the stages keep internally, these keep their meaning.
 //
 // Body b ≥ 0 (ground has no entry); r is a point in b's body frame, whose origin is the body's
-// mass center (docs/scene-format.md). All results are world components. Each query is valid
+// mass center (docs/reference/scene.md). All results are world components. Each query is valid
 // after the stage named in brackets has run on the workspace:
 //   [position]     evaluate_state_expressions + compute_position
 //   [velocity]     ... + compute_velocity

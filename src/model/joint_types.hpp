@@ -1,5 +1,5 @@
 // What each joint type is: its coordinates and speeds, their names, and the motion of each
-// speed (model.hpp SpeedAxis). The table behind docs/scene-format.md's joint list.
+// speed (model.hpp SpeedAxis). The table behind docs/reference/scene.md's joint list.
 #pragma once
 #include "model/model.hpp"
 

@@ -1,7 +1,7 @@
 // The immutable Model: topology, coordinates, speeds, parameters and compiled expressions of a
 // scene. Built once by build_model(); evaluated through Workspace<Scalar> (dynamics/workspace.hpp).
 //
-// Notation (docs/scene-format.md): nq coordinates q, nu speeds u, state y = [q; u].
+// Notation (docs/reference/scene.md): nq coordinates q, nu speeds u, state y = [q; u].
 // Every number of the scene is an expression stored in `expressions`; a "slot" is an index into
 // it and into Workspace::values. Slots whose expression reads t, q or u are re-evaluated each
 // right-hand side (state_slots); the rest once per parameter set (parameter_slots).

@@ -15,7 +15,7 @@ struct ConstraintOptions {
   double alpha = 5.0, beta = 5.0;  // Baumgarte rates, 1/s
   bool correct_initial = true;     // make q0, u0 consistent (and report the correction)
   // With projection: project the recorded sensitivities onto the constraints' tangent space at
-  // each output (CVODES projects y only; docs/constraints.md measures the difference).
+  // each output (CVODES projects y only; docs/explanation/constraints.md measures the difference).
   bool project_sensitivities = true;
 };
 

@@ -2,7 +2,7 @@
 // coordinates and the speeds, in order of preference. The correction takes, in this order, as
 // many directions as the constraints have independent rows (each one only if it raises the rank).
 //
-// Rolling contacts first (docs/constraints.md, "Consistent initial state"): for every free joint
+// Rolling contacts first (docs/explanation/constraints.md, "Consistent initial state"): for every free joint
 // that carries a wheel,
 //   coordinates: its translation along each rolling plane's normal (the height), then its
 //                rotation about the axle of the nearest wheel it carries, through that wheel's

@@ -1,4 +1,4 @@
-// Checks of a sample at its initial state, before anything is integrated (docs/scene-format.md,
+// Checks of a sample at its initial state, before anything is integrated (docs/reference/scene.md,
 // "Degenerate constraints"). The consistent initial conditions and the integrator would find the
 // same problems later — a constraint that constrains nothing there divides by a 0-column
 // decomposition, a mass matrix that is not finite fails every step — after a run has created

@@ -75,7 +75,7 @@ class KaneProblem final : public OdeProblem {
   std::vector<int> dq_parameter_list() const override { return workspaces_.dq_parameter_list(); }
 
   // The embedding re-chooses its independent speeds (coordinate partitioning with re-selection,
-  // docs/constraints.md): after every step it measures the amplification κ = max |A_d⁻¹ A_i|;
+  // docs/explanation/constraints.md): after every step it measures the amplification κ = max |A_d⁻¹ A_i|;
   // once κ has grown kRepartitionGrowth-fold (from max(κ at the last choice, 1)), it picks the
   // best-conditioned partition at the current state and, if that halves κ, maps the state and
   // the sensitivities to it (the full speeds and their sensitivities are the same in both).
@@ -113,7 +113,7 @@ class KaneProblem final : public OdeProblem {
                                         double& velocity);
   // Projects sensitivity i (s, nstate, in place) onto the constraints' tangent space at (t, y)
   // (Projector::project_sensitivity): CVODES's projection moves y only, so the integrated
-  // sensitivities drift off it (docs/constraints.md); simulate() applies this to the recorded
+  // sensitivities drift off it (docs/explanation/constraints.md); simulate() applies this to the recorded
   // ones when stabilization is projection.
   void project_sensitivity(double t, const double* y, int i, double* s);
 

@@ -1,4 +1,4 @@
-"""The installed route of the post-processing package, exactly as the README gives it: a venv
+"""The installed route of the post-processing package, exactly as docs/getting-started.md gives it: a venv
 made with `/usr/bin/python3 -m venv --system-site-packages`, `pip install --no-build-isolation
 --no-deps --no-index ./python` (offline), then the `kanesens-post` console script.
 

@@ -1,4 +1,4 @@
-"""Stability atlas (docs/stability.md), singular configurations: the parallelogram four-bar
+"""Stability atlas (docs/explanation/stability.md), singular configurations: the parallelogram four-bar
 (configs/parallelogram_four_bar.yaml) driven fast enough (crank 12 rad/s) that the crank turns
 about three times in 3 s and passes through the collinear toggle positions, where the loop
 constraint's matrix A loses rank (the parallelogram/anti-parallelogram bifurcation). Pinned:

@@ -153,7 +153,7 @@ def test_cart_double_pendulum_mass_matrix_and_static_forces():
 
 
 # ----------------------------------------------------------------------------------------------
-# Joint conventions of docs/scene-format.md
+# Joint conventions of docs/reference/scene.md
 # ----------------------------------------------------------------------------------------------
 
 def _inline(tmp_path, text, name="s.yaml"):

@@ -6,7 +6,7 @@
 // are not those of the projected trajectory. simulate() therefore projects the *recorded*
 // sensitivities at each output (ConstraintOptions::project_sensitivities, default on). This file
 // measures raw and output-projected sensitivities and pins the accuracy of each
-// (docs/constraints.md has the table).
+// (docs/explanation/constraints.md has the table).
 //
 // Scene: the pendulum of test_constraints_pendulum.cpp (planar free rod + pin, m = 1.3,
 // L = 0.8, θ0 = 0.5, θ̇0 = 0.7), 5 s (≈ 3 periods), 26 outputs. Sensitivities to m (the motion does
@@ -117,7 +117,7 @@ TEST(ConstraintSensitivities, StabilizationsAgainstFiniteDifferences) {
     bool proj;
     double limit;  // on the L, theta0, u0 errors
   };
-  // Limits pinned from the measured values (docs/constraints.md), with 3-5x margin.
+  // Limits pinned from the measured values (docs/explanation/constraints.md), with 3-5x margin.
   const std::vector<Row> rows = {
       {1e-8, Stab::none, false, 2e-5},         {1e-8, Stab::baumgarte, false, 1e-6},
       {1e-8, Stab::projection, false, 2e-5},   {1e-8, Stab::projection, true, 1.5e-6},

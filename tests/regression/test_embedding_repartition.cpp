@@ -116,7 +116,7 @@ TEST(EmbeddingRepartition, ParallelogramFourBarThroughItsToggles) {
   // Crank at 12 rad/s: about three turns in 3 s through the collinear positions, where A loses
   // rank for an instant (tests/python/test_stability_toggle.py has the multipliers' side). The
   // embedding needs the projection there (bdf, dop853): without it (adams) the drift lets the
-  // linkage take the anti-parallelogram branch (docs/constraints.md).
+  // linkage take the anti-parallelogram branch (docs/explanation/constraints.md).
   const ks::Model model = build_model(parse_scene_text(
       model::read_text_file(std::string(KANESENS_SOURCE_DIR) + "/configs/parallelogram_four_bar.yaml"), "p.yaml"));
   const auto times = linspace(0, 3, 301);

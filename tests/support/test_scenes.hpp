@@ -1,4 +1,4 @@
-// Scenes for tests and benchmarks, as YAML text (docs/scene-format.md).
+// Scenes for tests and benchmarks, as YAML text (docs/reference/scene.md).
 // chain_scene: the benchmark chain — a planar N-link chain of uniform rods (mass 1, length 1),
 // revolute about z, gravity −y, hanging along −y at q = 0. Each rod has a tiny inertia about its
 // own axis (1e-4) so that MuJoCo, which rejects a zero principal inertia, models the same bodies

@@ -1,11 +1,11 @@
 """Independent reference for kanesens: a scene YAML turned into Kane's equations by SymPy.
 
-This module re-implements the scene semantics of docs/scene-format.md with
+This module re-implements the scene semantics of docs/reference/scene.md with
 ``sympy.physics.mechanics`` (ReferenceFrame, Point, RigidBody, KanesMethod). It shares no
 code with the C++ engine; the two are compared number for number by
 tests/python/test_eom_vs_sympy.py through the JSON fixtures written by generate_fixtures.py.
 
-Conventions implemented (docs/scene-format.md is the contract):
+Conventions implemented (docs/reference/scene.md is the contract):
 
 * ``ground`` is the Newtonian frame N with origin O. Every body frame has its origin at the
   body's mass center G; ``inertia`` is the central tensor in the body frame (entries as

@@ -201,6 +201,44 @@ TEST_P(Events, StopEndsTheRunAtTheEventWithAnOkStatus) {
   EXPECT_EQ(r.outputs_recorded, static_cast<int>(recorded.size()));
 }
 
+namespace {
+// g = t − at: a zero exactly at a given time.
+class AtTime : public ks::OdeEvents {
+ public:
+  explicit AtTime(double at) : at_(at) {}
+  int size() const override { return 1; }
+  int direction(int) const override { return 0; }
+  void g(double t, const double*, double* gout) override { gout[0] = t - at_; }
+  bool occurred(int, double t, const double*, const double* const*) override {
+    times.push_back(t);
+    return false;
+  }
+  std::vector<double> times;
+
+ private:
+  double at_;
+};
+}  // namespace
+
+// A zero that falls exactly on an output time (or the end) is one event, and every output is
+// recorded once.
+TEST_P(Events, AnEventExactlyAtAnOutputTimeIsSeenOnce) {
+  const Case c = GetParam();
+  const std::vector<double> times = grid(0.2, 5);  // 0, 0.05, 0.1, 0.15, 0.2
+  for (double at : {times[2], times[4]}) {
+    Pendulum p(1.0, 0.5, c.stepwise);
+    AtTime ev(at);
+    std::vector<double> recorded;
+    const ks::IntegrationResult r = ks::integrate(p, options(c.method, 1e-10), times,
+                                                  [&](int, double t, const double*, const double* const*) { recorded.push_back(t); },
+                                                  nullptr, &ev);
+    ASSERT_TRUE(r.ok()) << r.message;
+    EXPECT_EQ(recorded, times);
+    ASSERT_EQ(ev.times.size(), 1u) << "event at " << at;
+    EXPECT_NEAR(ev.times[0], at, 1e-12);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Methods, Events,
                          ::testing::Values(Case{"bdf", ks::Method::bdf, false}, Case{"adams", ks::Method::adams, false},
                                            Case{"bdf_stepwise", ks::Method::bdf, true},

@@ -7,7 +7,7 @@
 //       (body components);
 //   (c) a uniform rod pendulum about its end: M = m L²/3, f = −m g (L/2) sin q;
 //   (d) a prismatic spring–mass–damper: M = m, f = −k x − c ẋ;
-//   (e) the joint conventions of docs/scene-format.md (rotation and mass-center position of
+//   (e) the joint conventions of docs/reference/scene.md (rotation and mass-center position of
 //       the child for every joint type, written here with Eigen::AngleAxis and quaternions).
 // Energies are checked too: T = ½ uᵀ M u from the closed-form M, V from the mass-center height.
 #include <gtest/gtest.h>
@@ -216,7 +216,7 @@ TEST(KaneClosedForms, PrismaticSpringMassDamper) {
 
 // ---- (e) joint conventions --------------------------------------------------------------------
 // One body on one joint to ground, parent_point P, child_point c, at a given q: the child's
-// rotation R and its mass center P + d(q) − R c must follow the table of docs/scene-format.md.
+// rotation R and its mass center P + d(q) − R c must follow the table of docs/reference/scene.md.
 struct ConventionCase {
   const char* name;
   const char* joint;  // the joint's YAML fields after parent/child

@@ -1,4 +1,4 @@
-// Scene YAML → SceneSpec (docs/scene-format.md). Strict: unknown keys, wrong types and missing
+// Scene YAML → SceneSpec (docs/reference/scene.md). Strict: unknown keys, wrong types and missing
 // keys are InputErrors naming file:line:column and the key path.
 #pragma once
 #include <yaml-cpp/yaml.h>

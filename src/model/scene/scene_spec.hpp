@@ -77,7 +77,7 @@ struct ForceSpec {
   std::string key;
 };
 
-// Constraints Σ_k a_jk u_k + a_j0 = 0 (docs/scene-format.md, "Constraints").
+// Constraints Σ_k a_jk u_k + a_j0 = 0 (docs/reference/scene.md, "Constraints").
 struct ConstraintSpec {
   std::string name;
   ConstraintKind kind = ConstraintKind::coincident;

@@ -3,7 +3,7 @@
 // `solver.method: dop853`. For non-stiff problems at tight tolerances, where CVODES's Adams
 // method runs out of accuracy (its global error on the four-bar stays ~1e-9 at rtol 1e-14,
 // docs/peers.md) and BDF takes many small steps: DOP853's 12 stages buy an 8th-order step.
-// No Jacobian, so a stiff problem makes it take tiny steps (docs/stability.md); use bdf there.
+// No Jacobian, so a stiff problem makes it take tiny steps (docs/explanation/stability.md); use bdf there.
 //
 // Error control: the local error estimate of Hairer's dop853.f (its 5th- and 3rd-order
 // embedded solutions), in the RMS norm over the controlled components with scale

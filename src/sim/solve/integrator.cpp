@@ -377,10 +377,9 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
     while (flag == CV_ROOT_RETURN && !stopped) {
       if (n_sens > 0) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
       stopped = im.handle_roots(t_reached, y, s);
-      // A crossing at the output time itself leaves y at tout; CVode(tout) again would return
-      // the same root without end.
-      if (!stopped && t_reached >= tout) flag = CV_SUCCESS;
-      else if (!stopped) flag = CVode(m, tout, im.y.get(), &t_reached, CV_NORMAL);
+      // A zero exactly at tout: y is y(tout) already. CVode(tout) again would search up to tout
+      // once more and find g(tout) = 0 again, for ever.
+      if (!stopped) flag = t_reached == tout ? CV_SUCCESS : CVode(m, tout, im.y.get(), &t_reached, CV_NORMAL);
     }
     if (stopped) {
       im.stop_at(result, t_reached);

@@ -100,7 +100,7 @@ class OdeProblem {
   // success, > 0 for a recoverable failure (CVODES retries with a smaller step), < 0 fatal.
   // NOTE: combining projection with sensitivities is experimental; see docs/solve.md.
   // Coordinates that change between steps (the embedding re-choosing its independent speeds,
-  // docs/constraints.md). When has_step_check(), the integrator calls after_step after every
+  // docs/explanation/constraints.md). When has_step_check(), the integrator calls after_step after every
   // accepted step (and projection) that does not end the integration, with the step's state y
   // (n) and sensitivities s[i] (n each; s == nullptr when ns = 0). A problem that changes the
   // meaning of its state rewrites y and s in place (same n) and returns true; the integrator

@@ -1,0 +1,263 @@
+"""The reference pages (docs/reference/) against the code, so the docs cannot fall behind it.
+
+* scene.md names every key and every choice the scene parser accepts, study.md every key and
+  choice the study parser accepts: both lists are read from the parsers' own sources (the
+  allowed-key lists behind the "unknown key" errors, and the name tables of read_choice).
+* cli.md names every subcommand and every option of `kanesens --help` and of each
+  subcommand's --help; python.md every subcommand and option of `kanesens-post`.
+* hdf5.md names every dataset, group and attribute of a run file written by `kanesens run` with
+  everything recorded (states, sensitivities, multipliers, outputs, events, poses, a design).
+* exit-codes.md lists every exit code the command line returns and every sample status the
+  ensemble writes.
+"""
+import os
+import pathlib
+import re
+import subprocess
+import sys
+
+import pytest
+
+ROOT = pathlib.Path(os.environ.get("KANESENS_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
+REF = ROOT / "docs" / "reference"
+KANESENS = os.environ.get("KANESENS")
+
+IDENT = re.compile(r'"([a-z][a-z0-9_]*)"')
+
+
+def accepted_names(sources):
+    """Keys of every check_keys(...{...}) list, key tables, and the names of read_choice /
+    kind tables ({"name", Enum::value}) in the given C++ sources."""
+    names = set()
+    for src in sources:
+        text = src.read_text(encoding="utf-8")
+        for lst in re.findall(r"check_keys\([^;]*?\{([^}]*)\}", text, re.S):
+            names |= set(IDENT.findall(lst))
+        names |= set(re.findall(r'\{"([a-z][a-z0-9_]*)",\s*[A-Z]\w*::', text))
+        # key tables: parse_sampling's keys_of, parse_vary's distribution table
+        for lst in re.findall(r"keys(?:\s*=|\.push_back\(|\.insert\([^{]*)\s*\{?([^;]*);", text):
+            names |= set(IDENT.findall(lst))
+        for lst in re.findall(r'\{"[a-z]+",\s*\{([^}]*)\}\}', text):
+            names |= set(IDENT.findall(lst))
+        names |= set(re.findall(r'\{"([a-z]+)",\s*\{"dist"', text))
+        names |= set(re.findall(r'shape == "([a-z]+)"', text))
+        for lst in re.findall(r"_methods\s*=\s*\{([^}]*)\}", text):
+            names |= set(IDENT.findall(lst))
+    return names
+
+
+def documented(page_text, name):
+    """`name` appears as code (`...name...`) or as a YAML key (name:) on the page."""
+    fenced = re.findall(r"```.*?```", page_text, re.S)
+    prose = re.sub(r"```.*?```", "", page_text, flags=re.S)
+    for code in re.findall(r"`([^`\n]+)`", prose):
+        if re.search(rf"(?<![\w]){re.escape(name)}(?![\w])", code):
+            return True
+    if re.search(rf"(?<![\w]){re.escape(name)}:", page_text):
+        return True
+    # inside fenced/indented code blocks
+    blocks = "\n".join(fenced)
+    blocks += "\n".join(l for l in page_text.splitlines() if l.startswith("    "))
+    return re.search(rf"(?<![\w]){re.escape(name)}(?![\w])", blocks) is not None
+
+
+def missing(page, names):
+    text = (REF / page).read_text(encoding="utf-8")
+    return sorted(n for n in names if not documented(text, n))
+
+
+def test_documented_is_strict():
+    page = "Keys: `alpha, beta`.\n\n```yaml\ngamma: 1\n```\nThe delta key, epsilon: 2\n"
+    assert documented(page, "alpha") and documented(page, "beta") and documented(page, "gamma")
+    assert documented(page, "epsilon") and not documented(page, "delta")
+    assert not documented(page, "alph")
+
+
+def test_scene_reference_names_every_scene_key():
+    names = accepted_names(sorted((ROOT / "src/model/scene").glob("*.cpp")))
+    assert {"bodies", "joints", "parent_point", "spring", "revolute", "rolling", "coupler"} <= names
+    assert missing("scene.md", names) == []
+
+
+def test_study_reference_names_every_study_key():
+    names = accepted_names(sorted((ROOT / "src/study").glob("parse_*.cpp")))
+    assert {"time", "solver", "rtol", "saltelli", "truncnormal", "mu", "trajectories",
+            "constraint_force", "poses", "max_count"} <= names
+    assert missing("study.md", names) == []
+
+
+def help_text(*args):
+    r = subprocess.run(args, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    return r.stdout
+
+
+def options(help_out):
+    return set(re.findall(r"(?<![\w-])(--[a-z][a-z0-9-]*)", help_out))
+
+
+def subcommands(help_out):
+    m = re.search(r"^Subcommands:\n(.*?)(?:\n\s*\n|\Z)", help_out, re.S | re.M | re.I)
+    assert m, help_out
+    return [l.split()[0] for l in m.group(1).splitlines() if l.strip()]
+
+
+@pytest.mark.skipif(not KANESENS, reason="needs the kanesens executable (KANESENS)")
+def test_cli_reference_names_every_subcommand_and_option():
+    text = (REF / "cli.md").read_text(encoding="utf-8")
+    top = help_text(KANESENS, "--help")
+    subs = subcommands(top)
+    assert {"check", "eom", "simulate", "run"} <= set(subs)
+    bad = [f"option {o}" for o in options(top) if o != "--help" and o not in text]
+    for sub in subs:
+        if not re.search(rf"^#+ .*`{sub}\b", text, re.M) and f"kanesens {sub}" not in text:
+            bad.append(f"subcommand {sub}")
+        h = help_text(KANESENS, sub, "--help")
+        nested = subcommands(h) if re.search(r"^Subcommands:", h, re.M | re.I) else []
+        for nest in nested:
+            if f"{sub} {nest}" not in text:
+                bad.append(f"subcommand {sub} {nest}")
+            h += help_text(KANESENS, sub, nest, "--help")
+        bad += [f"{sub} {o}" for o in sorted(options(h)) if o != "--help" and o not in text]
+    assert bad == [], "not in docs/reference/cli.md: " + ", ".join(bad)
+
+
+def test_python_reference_names_every_kanesens_post_subcommand_and_option():
+    text = (REF / "python.md").read_text(encoding="utf-8")
+    post = [sys.executable, "-m", "kanesens_post"]
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "python"))
+    top = subprocess.run(post + ["--help"], capture_output=True, text=True, env=env, timeout=60)
+    assert top.returncode == 0, top.stderr
+    subs = re.search(r"\{([a-z,-]+)\}", top.stdout).group(1).split(",")
+    assert {"summary", "sobol", "draw", "animate"} <= set(subs)
+    bad = []
+    for sub in subs:
+        if f"kanesens-post {sub}" not in text:
+            bad.append(f"subcommand {sub}")
+        h = subprocess.run(post + [sub, "--help"], capture_output=True, text=True, env=env, timeout=60)
+        assert h.returncode == 0, h.stderr
+        bad += [f"{sub} {o}" for o in sorted(options(h.stdout)) if o != "--help" and o not in text]
+    assert bad == [], "not in docs/reference/python.md: " + ", ".join(bad)
+
+
+def test_python_reference_names_every_public_function():
+    """Every analysis entry point and io reader of the package appears in python.md."""
+    import ast
+    text = (REF / "python.md").read_text(encoding="utf-8")
+    wanted = {"io": {"open_run", "response", "sensitivities", "output_names", "design"},
+              "summary": {"summarize", "output_statistics"}, "sobol": {"analyze"}, "morris": {"analyze"},
+              "dgsm": {"analyze"}, "linear_uq": {"analyze"}, "plot": {"plot"}, "geometry": {"scene_geometry"}}
+    bad = []
+    for module, functions in wanted.items():
+        tree = ast.parse((ROOT / "python/kanesens_post" / f"{module}.py").read_text(encoding="utf-8"))
+        defined = {n.name: n for n in tree.body if isinstance(n, ast.FunctionDef)}
+        for f in functions:
+            if f not in defined:
+                bad.append(f"{module}.{f} is no longer defined")
+                continue
+            if f"kanesens_post.{module}.{f}(" not in text:
+                bad.append(f"kanesens_post.{module}.{f} not in python.md")
+            # every parameter named in the signature is the one documented
+            args = [a.arg for a in defined[f].args.args]
+            m = re.search(rf"kanesens_post\.{module}\.{f}\(([^)]*)\)", text)
+            if m:
+                shown = [a.split("=")[0].strip() for a in m.group(1).split(",") if a.strip()]
+                bad += [f"{module}.{f}: no parameter '{a}'" for a in shown if a not in args]
+    assert bad == []
+
+
+STUDY = """\
+kanesens: 1
+scene: {scene}
+time: {{end: 0.2, outputs: 5}}
+solver: {{rtol: 1.0e-6, atol: 1.0e-8}}
+sampling: {{method: saltelli, samples: 2, seed: 1}}
+vary:
+  c: {{dist: uniform, low: 0.65, high: 0.75}}
+  m2: {{dist: normal, mean: 2.0, std: 0.01}}
+sensitivities: [m2]
+record: [states, sensitivities, multipliers, energy, constraint_residual, poses]
+outputs:
+  tip: {{type: position, body: coupler, point: [0, 0, 0]}}
+  tip_end: {{of: tip.x, at: end}}
+  f: {{type: constraint_force, constraint: {constraint}}}
+events:
+  - {{name: half, when: "crank.q - 2"}}
+"""
+
+
+def h5_names(path):
+    import h5py
+    datasets, groups, attributes = set(), set(), set()
+    with h5py.File(path, "r") as f:
+        attributes |= set(f.attrs)
+
+        def visit(name, obj):
+            (groups if isinstance(obj, h5py.Group) else datasets).add("/" + name)
+            attributes.update(a for a in obj.attrs if not a.isupper() and not a.startswith("_")
+                              and a not in {"CLASS", "NAME", "REFERENCE_LIST", "DIMENSION_LIST"})
+        f.visititems(visit)
+    return datasets, groups, attributes
+
+
+@pytest.mark.skipif(not KANESENS, reason="needs the kanesens executable (KANESENS)")
+def test_hdf5_reference_names_everything_a_run_writes(tmp_path):
+    scene_text = (ROOT / "configs/four_bar.yaml").read_text(encoding="utf-8")
+    for needed in ("m2:", "c:", "coupler"):
+        assert needed in scene_text, f"configs/four_bar.yaml has no '{needed}'"
+    constraint = re.search(r"constraints:\s*\n\s*-\s*\{?\s*name:\s*(\w+)", scene_text)
+    assert constraint, "configs/four_bar.yaml: no named constraint"
+    study = tmp_path / "study.yaml"
+    study.write_text(STUDY.format(scene=ROOT / "configs/four_bar.yaml", constraint=constraint.group(1)))
+    out = tmp_path / "run.h5"
+    r = subprocess.run([KANESENS, "run", str(study), "-o", str(out)], capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 0, r.stderr
+    datasets, groups, attributes = h5_names(out)
+    text = (REF / "hdf5.md").read_text(encoding="utf-8")
+    bad = []
+    for d in sorted(datasets | groups):
+        parts = d.strip("/").split("/")
+        if parts[0] in {"outputs", "output_sensitivities", "vary"} and len(parts) > 1:
+            # /outputs/<name>: the study's own names; the fixed ones must be listed
+            if parts[1] in {"energy", "position_residual", "velocity_residual"} and parts[1] not in text:
+                bad.append(d)
+            if f"/{parts[0]}/" not in text:
+                bad.append(d)
+        elif parts[0] == "solver_stats" and len(parts) > 1:
+            if parts[1] not in text:
+                bad.append(d)
+        elif f"/{parts[0]}" not in text:
+            bad.append(d)
+    bad += [f"attribute {a}" for a in sorted(attributes) if a not in text]
+    assert {"/states", "/sensitivities", "/multipliers", "/poses", "/status"} <= datasets
+    assert bad == [], "not in docs/reference/hdf5.md: " + ", ".join(bad)
+
+
+def table_codes(text, heading):
+    section = text.split(heading, 1)[1].split("\n## ", 1)[0]
+    codes = set()
+    for row in re.findall(r"^\| ([^|]+) \|", section, re.M):
+        for c in re.findall(r"[−-]?\d+", row):
+            codes.add(int(c.replace("−", "-")))
+    return codes
+
+
+def test_exit_codes_reference_lists_every_code():
+    text = (REF / "exit-codes.md").read_text(encoding="utf-8")
+    exits = table_codes(text, "## Exit codes")
+    returned = set()
+    for src in (ROOT / "apps/kanesens").glob("*.cpp"):
+        s = src.read_text(encoding="utf-8")
+        returned |= {int(c) for c in re.findall(r"\breturn (\d+);", s)}
+        returned |= {int(c) for c in re.findall(r"\? (\d+) : (?:\d+)", s)}
+        if "128 + s.stop_signal" in s:
+            returned |= {130, 143}  # SIGINT, SIGTERM
+    assert {0, 1, 2, 4, 5} <= returned
+    assert sorted(returned - exits) == []
+    statuses = table_codes(text, "## `/status`")
+    written = set()
+    for src in (ROOT / "src").rglob("*.cpp"):
+        written |= {int(c) for c in re.findall(r"constexpr int kStatus\w+ = (-?\d+);", src.read_text(encoding="utf-8"))}
+    assert {-100, -101} <= written
+    assert sorted(written - statuses) == []
