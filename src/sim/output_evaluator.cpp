@@ -1,5 +1,6 @@
 #include "sim/output_evaluator.hpp"
 
+#include "sim/eigenvalue_outputs.hpp"
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -71,6 +72,12 @@ void OutputEvaluator::evaluate_tangent(const OutputProgram& program, int i, doub
     for (int c = 0; c < static_cast<int>(n.components.size()); ++c)
       tangents_[static_cast<std::size_t>((n.slot + c) * ns_ + i)] = dual_values_[static_cast<std::size_t>(n.slot + c)].d;
   }
+}
+
+void OutputEvaluator::take_initial_eigenvalues() {
+  for (const OutputNode& n : plan_.nodes)
+    if (n.kind == OutputKind::eigenvalues)
+      evaluate_eigenvalues(n, problem_, values_.data() + n.slot, tangents_.data() + static_cast<std::ptrdiff_t>(n.slot) * ns_);
 }
 
 void OutputEvaluator::take_at_values(double t) {

@@ -29,6 +29,9 @@ class OutputEvaluator final : public OdeQuadrature {
   void evaluate(const OutputProgram& program, double t, const double* y, const double* const* s);
   double value(int slot) const { return values_[static_cast<std::size_t>(slot)]; }
   double tangent(int slot, int i) const { return tangents_[static_cast<std::size_t>(slot * ns_ + i)]; }
+  // At the initial state (after start()): the outputs of type eigenvalues. Throws
+  // std::runtime_error if the sample cannot be linearized there.
+  void take_initial_eigenvalues();
   // At an `at:` time t (after evaluate(plan.at, ...) there): the reductions `at` t take their values.
   void take_at_values(double t);
   // After the integration (ok: it reached the end; span: its length t1 − t0): the quadrature

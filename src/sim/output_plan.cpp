@@ -29,7 +29,8 @@ std::vector<std::string> output_component_suffixes(OutputKind kind, const model:
     }
     case OutputKind::energy:
     case OutputKind::expression:
-    case OutputKind::reduction: return {};
+    case OutputKind::reduction:
+    case OutputKind::eigenvalues: return {};
   }
   return {};
 }
@@ -46,7 +47,8 @@ Level kind_level(OutputKind kind, EnergyKind energy) {
     case OutputKind::joint_load: return Level::acceleration;
     case OutputKind::energy: return energy == EnergyKind::potential ? Level::position : Level::velocity;
     case OutputKind::expression:
-    case OutputKind::reduction: return Level::parameters;  // from what they read
+    case OutputKind::reduction:
+    case OutputKind::eigenvalues: return Level::parameters;  // from what they read; eigenvalues: not a series
   }
   return Level::acceleration;
 }

@@ -23,7 +23,8 @@ enum class OutputKind : unsigned char {
   position, velocity, acceleration, orientation, angular_velocity,  // of a body (point)
   constraint_force, joint_load, force_element, energy,
   expression,  // of t, states, λ, parameters and other outputs
-  reduction    // one number per sample from a series: `of:` with `at:` or `reduce:`
+  reduction,   // one number per sample from a series: `of:` with `at:` or `reduce:`
+  eigenvalues  // one number per sample each: the linearized system's eigenvalues at the initial state
 };
 enum class EnergyKind : unsigned char { kinetic, potential, total };
 // event: the first time `of` crosses zero in a direction and the number of crossings (an
@@ -71,6 +72,10 @@ struct OutputNode {
   long recorded_times = 0;                       //   event: occurrence times kept (/events/NAME/time)
   int event = -1;                                //   at_event: the event node
   long occurrence = 1;                           //   at_event: which occurrence (1 = the first)
+  // Kind eigenvalues (sim/eigenvalue_outputs.hpp): the reduced coordinates and speeds (fixed
+  // by the nominal sample), and how many eigenvalues are kept (components re0, im0, re1, ...).
+  std::vector<std::string> linear_coordinates, linear_speeds;
+  int eigenvalue_count = 0;
 };
 
 // The series nodes to evaluate for one purpose, dependencies first, and the level they need.

@@ -193,6 +193,7 @@ void simulate(KaneProblem& problem, Integrator& integrator, std::span<const doub
   const Schedule schedule = make_schedule(times, plan.at_times);
   OutputEvaluator outputs(plan, problem);
   outputs.start();
+  outputs.take_initial_eigenvalues();
   traj.result = integrator.integrate(problem, schedule.times, recorder(problem, flags, traj, &outputs, &schedule),
                                      outputs.size() > 0 ? &outputs : nullptr, outputs.events());
   outputs.finish(traj.result.ok(), times.back() - times.front(), traj.scalar_outputs.data(),

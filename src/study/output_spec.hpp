@@ -38,6 +38,11 @@ struct OutputSpec {
   bool stop = false;  // action: stop
   long max_count = 0;
   long recorded_times = 0;  // occurrence times kept: max_count if given, else 100
+  // Kind eigenvalues: `count:` (0: all), `coordinates:` / `speeds:` (empty: chosen as by
+  // `kanesens linearize`), where each was written.
+  long count = 0;
+  std::vector<std::string> coordinates, speeds;
+  SourceLocation coordinates_where, speeds_where;
   // The key its messages name: "outputs.NAME" or "events.NAME".
   std::string key() const { return (event ? "events." : "outputs.") + name; }
 };

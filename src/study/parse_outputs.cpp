@@ -19,7 +19,38 @@ constexpr std::pair<std::string_view, OutputKind> kKinds[] = {
     {"constraint_force", OutputKind::constraint_force},
     {"joint_load", OutputKind::joint_load},
     {"force_element", OutputKind::force_element},
-    {"energy", OutputKind::energy}};
+    {"energy", OutputKind::energy},
+    {"eigenvalues", OutputKind::eigenvalues}};
+
+// A list of names (coordinates:, speeds:).
+std::vector<std::string> read_names(const YAML::Node& n, const std::string& key, const model::YamlReader& r) {
+  if (!n.IsSequence() || n.size() == 0) r.fail(n, key, "expected a list of names, found " + model::describe(n));
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < n.size(); ++i) out.push_back(r.read_string(n[i], key + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
+// type: eigenvalues — at: initial (required), count:, coordinates:, speeds:.
+void parse_eigenvalues(OutputSpec& o, const YAML::Node& n, const std::string& key, const model::YamlReader& r) {
+  r.check_keys(n, key, {"type", "at", "count", "coordinates", "speeds"});
+  const YAML::Node at = r.required(n, "at", key);
+  if (!at.IsScalar() || at.Scalar() != "initial")
+    r.fail(at, key + ".at", "expected initial (the eigenvalues at the consistent initial state), found " + model::describe(at));
+  o.reduce_where = r.location(at);
+  if (const YAML::Node c = n["count"]) {
+    const std::int64_t k = r.read_integer(c, key + ".count");
+    if (k < 1 || k > 100000) r.fail(c, key + ".count", "expected a whole number from 1 (the eigenvalues kept, least stable first)");
+    o.count = static_cast<long>(k);
+  }
+  if (const YAML::Node c = n["coordinates"]) {
+    o.coordinates = read_names(c, key + ".coordinates", r);
+    o.coordinates_where = r.location(c);
+  }
+  if (const YAML::Node s = n["speeds"]) {
+    o.speeds = read_names(s, key + ".speeds", r);
+    o.speeds_where = r.location(s);
+  }
+}
 
 bool is_name(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
@@ -50,6 +81,7 @@ OutputSpec parse_one(const std::string& name, const YAML::Node& key_node, const 
       case OutputKind::joint_load: r.check_keys(n, key, {"type", "joint"}); target = "joint"; break;
       case OutputKind::force_element: r.check_keys(n, key, {"type", "force"}); target = "force"; break;
       case OutputKind::energy: r.check_keys(n, key, {"type", "kind"}); break;
+      case OutputKind::eigenvalues: parse_eigenvalues(o, n, key, r); return o;
       default: break;
     }
     if (target) {
