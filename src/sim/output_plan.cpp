@@ -113,8 +113,11 @@ OutputProgram program_of(const OutputPlan& plan, const std::vector<int>& starts)
 }  // namespace
 
 void finish_output_plan(OutputPlan& plan, const std::vector<int>& user_order) {
-  std::vector<int> record_starts, at_starts, integrand_starts, event_starts;
+  std::vector<int> record_starts, at_starts, integrand_starts, event_starts, extremum_starts, at_event_starts;
   plan.event_nodes.clear();
+  plan.event_occurrences = 0;
+  plan.extremum_nodes.clear();
+  plan.at_event_nodes.clear();
   plan.at_times.clear();
   plan.quadrature_nodes.clear();
   plan.scalar_expressions.clear();
@@ -137,6 +140,13 @@ void finish_output_plan(OutputPlan& plan, const std::vector<int>& user_order) {
       } else if (node.reduce == Reduction::event) {
         event_starts.push_back(node.of);
         plan.event_nodes.push_back(static_cast<int>(v));
+        plan.event_occurrences = std::max(plan.event_occurrences, node.recorded_times);
+      } else if (is_extremum(node.reduce)) {
+        extremum_starts.push_back(node.of);
+        plan.extremum_nodes.push_back(static_cast<int>(v));
+      } else if (node.reduce == Reduction::at_event) {
+        at_event_starts.push_back(node.of);
+        plan.at_event_nodes.push_back(static_cast<int>(v));
       } else {
         integrand_starts.push_back(node.of);
         node.quadrature = static_cast<int>(plan.quadrature_nodes.size());
@@ -151,6 +161,8 @@ void finish_output_plan(OutputPlan& plan, const std::vector<int>& user_order) {
   plan.at = program_of(plan, at_starts);
   plan.integrands = program_of(plan, integrand_starts);
   plan.events = program_of(plan, event_starts);
+  plan.extrema = program_of(plan, extremum_starts);
+  plan.at_event = program_of(plan, at_event_starts);
   plan.series_slots.clear();
   plan.scalar_slots.clear();
   plan.series_names.clear();

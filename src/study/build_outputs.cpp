@@ -156,6 +156,8 @@ struct Builder {
         n.direction = o.direction;
         n.stop = o.stop;
         n.max_count = o.max_count;
+        n.recorded_times = o.recorded_times;
+        n.occurrence = o.occurrence;
         break;
       }
     }
@@ -173,6 +175,23 @@ struct Builder {
     check_name(o, n.components);
     user_node.push_back(static_cast<int>(plan.nodes.size()));
     add_node(std::move(n), static_cast<int>(si), o.kind == OutputKind::expression ? key + ".expression" : key);
+  }
+
+  // An at_event output's event, by name (events may be listed after the outputs).
+  void resolve_events() {
+    for (std::size_t si = 0; si < specs.size(); ++si) {
+      const OutputSpec& o = specs[si];
+      if (o.kind != OutputKind::reduction || o.event || o.reduce != sim::Reduction::at_event) continue;
+      std::string known;
+      for (std::size_t sj = 0; sj < specs.size(); ++sj) {
+        if (!specs[sj].event) continue;
+        if (specs[sj].name == o.at_event) plan.nodes[static_cast<std::size_t>(user_node[si])].event = user_node[sj];
+        known += (known.empty() ? "" : ", ") + specs[sj].name;
+      }
+      if (plan.nodes[static_cast<std::size_t>(user_node[si])].event < 0)
+        throw InputError(o.reduce_where, o.key() + ".at_event",
+                         "no event named '" + o.at_event + "'" + (known.empty() ? " (the study has no events:)" : "; events: " + known));
+    }
   }
 
   // The names expressions read: outputs first (they shadow a constraint's rows of the same
@@ -246,6 +265,7 @@ struct Builder {
       OutputNode n = std::move(plan.nodes[static_cast<std::size_t>(v)]);
       for (int& d : n.depends) d = position[static_cast<std::size_t>(d)];
       if (n.of >= 0) n.of = position[static_cast<std::size_t>(n.of)];
+      if (n.event >= 0) n.event = position[static_cast<std::size_t>(n.event)];
       nodes.push_back(std::move(n));
       spec_of.push_back(spec_of_node[static_cast<std::size_t>(v)]);
       keys.push_back(node_key[static_cast<std::size_t>(v)]);
@@ -306,6 +326,7 @@ sim::OutputPlan build_output_plan(const std::vector<OutputSpec>& specs, const Mo
   for (int i = 0; i < m.nparam(); ++i) b.parameters.add(m.parameters[static_cast<std::size_t>(i)].name, {VarKind::parameter, i});
   if (specs.empty()) return {};
   for (std::size_t si = 0; si < specs.size(); ++si) b.add_spec(si);
+  b.resolve_events();
   b.fill_names();
   b.compile_expressions();
   b.order();
