@@ -7,13 +7,15 @@
 
 The four-bar (3 s) and Andrews' mechanism (0.03 s), multipliers vs embedding, with and without
 sensitivities; projection. Medians of K runs of `kanesens simulate` (wall_seconds = the
-integration). Prints a markdown table.
+integration). Writes bench/results/bench_constraints.json (--out); bench/make_tables.py makes
+the table.
 """
 from __future__ import annotations
 
 import argparse
 import json
 import subprocess
+from pathlib import Path
 
 import common as c
 
@@ -24,10 +26,10 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("-k", type=int, default=int(c.env_default("K", 5)), help="runs per median")
     ap.add_argument("--kanesens", default=c.env_default("KANESENS", str(c.kanesens_exe(c.ROOT / "build"))))
+    ap.add_argument("--out", default=str(c.ROOT / "bench" / "results" / "bench_constraints.json"))
     a = ap.parse_args(argv)
-    print("| problem | formulation | sensitivities | median wall (ms) | steps | RHS evals | sens RHS evals | "
-          "max abs(g) at outputs |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|")
+    load_start = c.loadavg()
+    rows = []
     for study, sens in CASES:
         for form in ("multipliers", "embedding"):
             for s in ("none", sens):
@@ -40,9 +42,12 @@ def main(argv=None):
                     walls.append(d["stats"]["wall_seconds"])
                 st = d["stats"]
                 g = max(x for x in d["constraint_residuals"]["position"] if x is not None)
-                ns = 0 if s == "none" else len(s.split(","))
-                print(f"| {study.replace('_study.yaml', '')} | {form} | {ns} | {c.median(walls) * 1e3:.1f} | "
-                      f"{st['steps']} | {st['rhs_evals']} | {st['sens_rhs_evals']} | {g:.1e} |")
+                rows.append({"problem": study.replace("_study.yaml", ""), "formulation": form,
+                             "sensitivities": 0 if s == "none" else len(s.split(",")), "sens": s,
+                             "median_wall_s": c.median(walls), "wall_s": walls, "steps": st["steps"],
+                             "rhs_evals": st["rhs_evals"], "sens_rhs_evals": st["sens_rhs_evals"], "max_abs_g": g})
+    Path(a.out).write_text(json.dumps({**c.provenance(load_start), "runs_per_median": a.k, "rows": rows}, indent=1))
+    c.log("bench_constraints", f"wrote {a.out}; tables: bench/make_tables.py")
 
 
 if __name__ == "__main__":

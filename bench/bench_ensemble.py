@@ -13,7 +13,7 @@
  2. throughput and file size for BIG samples on 2 ranks;
  3. scheduling/IO behaviour with many oversubscribed ranks (RANKS_MANY) — what the one-sided
     counter and independent writes cost when ranks outnumber cores.
-Prints markdown tables.
+Writes bench/results/bench_ensemble.json (--out); bench/make_tables.py makes the table.
 """
 from __future__ import annotations
 
@@ -36,11 +36,6 @@ def mpirun(exe, np_, out, samples, prefix=()):
     return subprocess.run(cmd, capture_output=True, text=True, env=MPI_ENV)
 
 
-def split(r) -> str:
-    busy = r["compute_seconds"] + r["io_seconds"] + r["schedule_seconds"]
-    return f'{100 * r["io_seconds"] / busy:.2f} % HDF5, {100 * r["schedule_seconds"] / busy:.2f} % scheduling'
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--samples", type=int, default=int(c.env_default("SAMPLES", 2000)))
@@ -48,7 +43,9 @@ def main(argv=None):
     ap.add_argument("--big", type=int, default=int(c.env_default("BIG", 100000)))
     ap.add_argument("--ranks-many", type=int, default=int(c.env_default("RANKS_MANY", 8)))
     ap.add_argument("--kanesens", default=c.env_default("KANESENS", str(c.kanesens_exe(c.ROOT / "build"))))
+    ap.add_argument("--out", default=str(c.ROOT / "bench" / "results" / "bench_ensemble.json"))
     a = ap.parse_args(argv)
+    load_start = c.loadavg()
     n, big, many = a.samples, a.big, a.ranks_many
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -74,16 +71,24 @@ def main(argv=None):
 
     t1 = c.median(r["wall_seconds"] for r in one)
     t2 = c.median(r["wall_seconds"] for r in two)
-    print("| ranks | samples | median wall (s) | samples/s | efficiency | rank time in writes / scheduling |")
-    print("|---:|---:|---:|---:|---:|---|")
-    print(f"| 1 | {n} | {t1:.2f} | {n / t1:.0f} | 1.00 | {split(one[0])} |")
-    print(f"| 2 | {n} | {t2:.2f} | {n / t2:.0f} | {t1 / (2 * t2):.2f} | {split(two[0])} |")
-    tm = mn["wall_seconds"]
-    print(f"| {many} (oversubscribed) | {n} | {tm:.2f} | {n / tm:.0f} | — | {split(mn)} |")
-    print()
-    print(f"{big} samples on 2 ranks: {b.get('wall_seconds', float('nan')):.1f} s wall, "
-          f"{b.get('samples_per_second', float('nan')):.0f} samples/s, file {size / 1e6:.1f} MB "
-          f"({size / big:.0f} bytes per sample); {big_time}; {split(b) if b else ''}")
+
+    def shares(r):
+        busy = r["compute_seconds"] + r["io_seconds"] + r["schedule_seconds"]
+        return {"hdf5_percent": 100 * r["io_seconds"] / busy, "scheduling_percent": 100 * r["schedule_seconds"] / busy}
+
+    rows = [{"ranks": 1, "samples": n, "median_wall_s": t1, "samples_per_s": n / t1, "efficiency": 1.0,
+             **shares(one[0]), "wall_s": [r["wall_seconds"] for r in one]},
+            {"ranks": 2, "samples": n, "median_wall_s": t2, "samples_per_s": n / t2, "efficiency": t1 / (2 * t2),
+             **shares(two[0]), "wall_s": [r["wall_seconds"] for r in two]},
+            {"ranks": many, "oversubscribed": True, "samples": n, "median_wall_s": mn["wall_seconds"],
+             "samples_per_s": n / mn["wall_seconds"], "efficiency": None, **shares(mn), "wall_s": [mn["wall_seconds"]]}]
+    big_row = {"ranks": 2, "samples": big, "wall_s": b.get("wall_seconds"), "samples_per_s": b.get("samples_per_second"),
+               "file_bytes": size, "bytes_per_sample": size / big if big else None, "time_output": big_time,
+               **(shares(b) if b else {})}
+    Path(a.out).write_text(json.dumps({**c.provenance(load_start), "study": str(STUDY.relative_to(c.ROOT)),
+                                       "rounds": a.rounds, "rows": rows, "big": big_row,
+                                       "summaries": {"one": one, "two": two, "many": mn, "big": b}}, indent=1))
+    c.log("bench_ensemble", f"wrote {a.out}; tables: bench/make_tables.py")
 
 
 if __name__ == "__main__":

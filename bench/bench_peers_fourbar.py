@@ -27,23 +27,21 @@ into the peers build directory, then in ONE run:
     (bench/fourbar_kanesens.py): bdf with multipliers + projection, adams with multipliers +
     Baumgarte, adams with embedding, and the explicit Runge–Kutta dop853 (Dormand–Prince
     8(5,3)) with embedding and with multipliers + Baumgarte (skipped with a note by a kanesens
-    without dop853); rtol swept to 1e-14, atol = rtol·1e-2. Simbody RK-Merson and CPodes at
-    accuracy = the same values; MuJoCo RK4 and Euler fixed-step dt sweep (no error control).
+    without dop853); rtol swept, atol = rtol·1e-2. Simbody's integrators (--integrators:
+    RK-Merson, RK-Feldberg, RK3, Verlet, CPodes BDF and Adams) at accuracy = the same values;
+    MuJoCo RK4, semi-implicit Euler and implicit-in-velocity fixed-step dt sweep (no error
+    control).
     Tools alternate for every tolerance (dt); median of TTA_REPS, 1 once a run takes > 2 s; a
     peer method is not run at tighter tolerances (smaller dt) once a run took > BUDGET s (so
     Simbody may stop before 1e-14).
 
-Writes OUT_DIR (default docs/peers) fourbar.md (tables), fourbar.json (all raw results) and
-fourbar_workprecision.png.
+Writes OUT_DIR (default docs/peers) fourbar.json (all raw results and the command line);
+bench/make_tables.py makes docs/peers.md's tables and fourbar_workprecision.png from it.
 """
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
-import math
-import os
-import platform
 import subprocess
 import sys
 import tempfile
@@ -89,7 +87,8 @@ def agreement(kanesens, raw: Path) -> dict:
     }
 
 
-def time_to_accuracy(kanesens, simbody, mujoco, work: Path, tols, dts, reps, budget) -> dict:
+def time_to_accuracy(kanesens, simbody, mujoco, work: Path, tols, dts, reps, budget, sb_integrators,
+                     mj_integrators) -> dict:
     sys.path.insert(0, str(c.ROOT / "tests" / "sympy"))
     import four_bar_quadrature
 
@@ -159,156 +158,33 @@ def time_to_accuracy(kanesens, simbody, mujoco, work: Path, tols, dts, reps, bud
 
     # kanesens and Simbody interleaved: kanesens BDF, Simbody RK-Merson, kanesens Adams, Simbody CPodes, ...
     ks_tools = [("kanesens", name) for name in by_name]
-    sb_tools = [("simbody", "rkm"), ("simbody", "cpodes")]
+    sb_tools = [("simbody", m) for m in sb_integrators]
     tol_tools = [t for i in range(max(len(ks_tools), len(sb_tools))) for t in ks_tools[i:i + 1] + sb_tools[i:i + 1]]
     rows = sweep(tols, tol_tools, lambda t, x: ks(t[1], x) if t[0] == "kanesens" else sb(t[1], x))
-    rows += sweep(dts, [("mujoco", "rk4"), ("mujoco", "euler")], lambda t, x: mj(t[1], x))
+    rows += sweep(dts, [("mujoco", m) for m in mj_integrators], lambda t, x: mj(t[1], x))
     return {"rows": rows, "y_ref": ref, "quadrature": quadrature, "reference_checks": checks,
             "kanesens_variants": list(by_name),
             "kanesens_variants_skipped": [fk.name(v) for v in requested if fk.name(v) not in by_name]}
 
 
-def report(out: Path, raw: Path, rounds: int, load_start: str, git: str, ks_version: str) -> str:
-    """Tables (fourbar.md), all results (fourbar.json) and the work-precision plot."""
+def report(out: Path, raw: Path, rounds: int, load_start, settings: dict) -> None:
+    """All results in OUT_DIR/fourbar.json; bench/make_tables.py makes docs/peers.md's tables
+    and fourbar_workprecision.png from it."""
     load = lambda f: c.load_json(raw / f"{f}.json")
     med = c.median
-    cpu = c.cpu_model()
-    load_end = " ".join(c.loadavg())
     k = [load(f"kanesens_{r}") for r in range(1, rounds + 1)]
     s = [load(f"simbody_{r}") for r in range(1, rounds + 1)]
     m = [load(f"mujoco_{r}") for r in range(1, rounds + 1)]
-    agree = load("agree")
     rhs = {"kanesens multipliers": med([x["rhs_multipliers"]["median_ns"] for x in k]),
            "kanesens embedding": med([x["rhs_embedding"]["median_ns"] for x in k]),
            "Simbody realize(Acceleration)": med([x["realize_acceleration"]["median_ns"] for x in s]),
            "MuJoCo mj_forward": med([x["mj_forward"]["median_ns"] for x in m])}
     mjv = m[0]["mujoco_version"]  # mj_version(): 222 = 2.2.2
-    versions = f"Simbody {s[0]['simbody_version']}, MuJoCo {mjv // 100}.{mjv // 10 % 10}.{mjv % 10}"
-    L = [f"Date {datetime.date.today()}, commit {git} ({ks_version}), {versions}, {cpu}, nproc {os.cpu_count()}, "
-         f"load average {load_start} (start) / {load_end} (end), {rounds} rounds; medians over rounds of medians over batches.",
-         "", "RHS evaluations at the consistent initial state (q, u of configs/four_bar.yaml at t = 0):", "",
-         "| program | median ns | eval/s | ratio kanesens multipliers / this | ratio kanesens embedding / this |",
-         "|---|---:|---:|---:|---:|"]
-    for name, ns in rhs.items():
-        L.append(f"| {name} | {ns:,.0f} | {1e9 / ns:,.0f} | {ns / rhs['kanesens multipliers']:.2f} | "
-                 f"{ns / rhs['kanesens embedding']:.2f} |")
-    a = agree
-    L += ["", f"Agreement at that state (max abs over the 3 accelerations, rad/s², and the 2 loop forces, N; "
-          f"max abs u̇ {a['max_abs_udot']:.2f}, max abs λ {a['max_abs_multiplier']:.2f}):", "",
-          "| against kanesens eom | u̇ | loop force (world x, y) |", "|---|---:|---:|",
-          f"| Simbody u̇, force on the coupler end | {a['simbody_udot_diff']:.1e} | {a['simbody_force_diff']:.1e} |",
-          f"| MuJoCo qacc, efc_force | {a['mujoco_qacc_diff']:.1e} | {a['mujoco_force_diff']:.1e} |",
-          f"| MuJoCo against kanesens with the J̇u bias set to zero | {a['mujoco_qacc_diff_no_bias']:.1e} | "
-          f"{a['mujoco_force_diff_no_bias']:.1e} |",
-          "", f"Initial states: Simbody vs kanesens {a['state_diff_simbody_vs_kanesens']:.1e}, MuJoCo vs kanesens "
-          f"{a['state_diff_mujoco_vs_kanesens']:.1e} (max abs over q, u)."]
-
-    tta = load("tta")
-    checks, quad = tta["reference_checks"], tta["quadrature"]
-    targets = [1e-4, 1e-6, 1e-8, 1e-10]
-    methods = [("simbody", "rkm", "Simbody RK-Merson"), ("simbody", "cpodes", "Simbody CPodes BDF"),
-               ("mujoco", "rk4", "MuJoCo RK4 (fixed dt)"), ("mujoco", "euler", "MuJoCo Euler (fixed dt)")] + \
-              [("kanesens", name, "kanesens " + fk.label(name)) for name in tta["kanesens_variants"]]
-
-    def points(tool, method):
-        rs = [r for r in tta["rows"] if (r["tool"], r["method"]) == (tool, method) and r["error"] is not None]
-        return sorted(rs, key=lambda r: -r["setting"])
-
-    cell = lambda v: "—" if v[0] is None else ("≤ " if v[1] == "<=" else "") + f"{v[0] * 1e3:,.1f}"
-    L += ["", "Time to reach a final-time max abs error over the six states, t ∈ [0, 10] (ms; log-log interpolation "
-          "on the tolerance sweep, on the dt sweep for MuJoCo; '≤' = the loosest setting already reaches it; '—' = not "
-          "reached in the sweep or budget). Ratio = fastest peer / fastest kanesens:", "",
-          "| target | " + " | ".join(x[2] for x in methods) + " | ratio best peer / best kanesens |",
-          "|---:|" + "---:|" * (len(methods) + 1)]
-    tta_table = []
-    for e in targets:
-        vs = [c.time_at([(r["setting"], r["error"], r["time_s"]) for r in points(t, mt)], e) for t, mt, _ in methods]
-        peers = [(v[0], lab) for v, (t, _, lab) in zip(vs, methods) if t != "kanesens" and v[0] is not None]
-        kss = [(v[0], lab) for v, (t, _, lab) in zip(vs, methods) if t == "kanesens" and v[0] is not None]
-        ratio = min(peers)[0] / min(kss)[0] if peers and kss else None
-        label = f"{ratio:,.1f} ({min(peers)[1]} / {min(kss)[1]})" if ratio else "—"
-        L.append(f"| {e:.0e} | " + " | ".join(cell(v) for v in vs) + f" | {label} |")
-        tta_table.append({"target": e, **{f"{t}_{mt}": v[0] for (t, mt, _), v in zip(methods, vs)},
-                          "ratio_best_peer_over_best_kanesens": ratio})
-    L += ["", f"Reference y_ref(10): energy quadrature (tests/sympy/four_bar_quadrature.py: T + V conserved gives the "
-          f"crank rate as a function of its angle, time is a quadrature; mpmath, {quad['dps']} digits; period "
-          f"{quad['period_s']:.6f} s, {quad['turns']} full turns before t = 10, slowest crank rate "
-          f"{quad['min_crank_rate']:.2f} rad/s), independent of every integrator and exact to the rounding of its doubles "
-          f"({max(math.ulp(x) for x in tta['y_ref']):.1e} on the crank angle). Cross-check, kanesens at rtol 1e-14 "
-          "(atol 1e-16), max abs difference from it: " + ", ".join(f"{fk.label(n)} {v:.1e}" for n, v in checks.items()) + "."]
-    if tta["kanesens_variants_skipped"]:
-        L.append("Skipped (this kanesens has no such solver.method): "
-                 + ", ".join("kanesens " + fk.label(n) for n in tta["kanesens_variants_skipped"]))
-
-    L += ["", "MuJoCo fixed-step sweep (no error control; solref = (2·dt, 1), solimp = 0.9999): final-time error, "
-          "wall time and the loop-closure residual at t = 10:", "",
-          "| integrator | dt | steps | wall (s) | max abs error | position residual (m) | velocity residual (m/s) |",
-          "|---|---:|---:|---:|---:|---:|---:|"]
-    for r in [r for r in tta["rows"] if r["tool"] == "mujoco"]:
-        if r["error"] is None:
-            L.append(f"| {r['method']} | {r['setting']:.0e} | | | failed | | |")
-        else:
-            L.append(f"| {r['method']} | {r['setting']:.0e} | {r['steps']:,} | {r['time_s']:.3f} | {r['error']:.1e} | "
-                     f"{r['position_residual']:.1e} | {r['velocity_residual']:.1e} |")
-    L += ["", "Simbody and kanesens sweep (accuracy = rtol; kanesens atol = rtol·1e-2): final-time error and wall time "
-          "(Simbody: also the constraint residual at t = 10):", "",
-          "| tolerance | " + " | ".join(x[2] for x in methods if x[0] != "mujoco") + " |",
-          "|---:|" + "---|" * sum(x[0] != "mujoco" for x in methods)]
-    for tol in sorted({r["setting"] for r in tta["rows"] if r["tool"] != "mujoco"}, reverse=True):
-        cells = []
-        for t, mt, _ in [x for x in methods if x[0] != "mujoco"]:
-            r = next((r for r in tta["rows"] if (r["tool"], r["method"], r["setting"]) == (t, mt, tol)), None)
-            if r is None:
-                cells.append("")
-            elif r["error"] is None:
-                cells.append("failed")
-            else:
-                res = f", res {max(r['position_residual'], r['velocity_residual']):.0e}" if t == "simbody" else ""
-                cells.append(f"{r['error']:.1e} in {r['time_s'] * 1e3:,.1f} ms{res}")
-        L.append(f"| {tol:.0e} | " + " | ".join(cells) + " |")
-    table = "\n".join(L) + "\n"
-    (out / "fourbar.md").write_text(table)
     with open(out / "fourbar.json", "w") as f:
-        json.dump({"date": str(datetime.date.today()), "git": git, "kanesens_version": ks_version, "cpu": cpu,
-                   "nproc": os.cpu_count(), "loadavg_start": load_start, "loadavg_end": load_end,
-                   "platform": platform.platform(), "rounds": rounds, "rhs_median_ns": rhs, "agreement": agree,
-                   "rhs_raw": {"kanesens": k, "simbody": s, "mujoco": m}, "tta": tta, "tta_table": tta_table},
-                  f, indent=1)
-    plot(out / "fourbar_workprecision.png", tta, methods, points, targets, versions, cpu)
-    return table
-
-
-def plot(png: Path, tta, methods, points, targets, versions, cpu) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(11, 5.6))
-    sty = {("simbody", "rkm"): ("tab:purple", "o", "-"), ("simbody", "cpodes"): ("tab:brown", "s", "-"),
-           ("mujoco", "rk4"): ("tab:red", "^", ":"), ("mujoco", "euler"): ("tab:orange", "v", ":"),
-           ("kanesens", "bdf/multipliers/projection"): ("black", "D", "-"),
-           ("kanesens", "adams/multipliers/baumgarte"): ("tab:blue", "X", "--"),
-           ("kanesens", "adams/embedding/none"): ("tab:gray", "P", "--"),
-           ("kanesens", "dop853/embedding/none"): ("tab:olive", "*", "-."),
-           ("kanesens", "dop853/multipliers/baumgarte"): ("tab:cyan", "p", "-.")}
-    for t, mt, lab in methods:
-        pts = points(t, mt)
-        if pts:
-            col, mk, ls = sty[(t, mt)]
-            ax.loglog([max(r["error"], 1e-16) for r in pts], [r["time_s"] for r in pts], color=col, marker=mk, ls=ls,
-                      ms=5, label=lab)
-    for e in targets:
-        ax.axvline(e, color="0.85", lw=0.8, zorder=0)
-    # reversed: accuracy increases to the right, down to the most accurate solution of the sweep
-    ax.set_xlim(3e2, min([1e-10] + [r["error"] for r in tta["rows"] if r["error"] is not None]) / 3)
-    ax.grid(True, alpha=0.3)
-    ax.set_xlabel("final-time max abs error over the six states (t = 10)")
-    ax.set_ylabel("wall time per solve (s)")
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: the data fill the corners
-    ax.set_title(f"Four-bar (configs/four_bar.yaml), t ∈ [0, 10]: kanesens vs {versions}\n{datetime.date.today()}, {cpu}, "
-                 f"nproc {os.cpu_count()}; tolerance sweep, MuJoCo dt sweep", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(png, dpi=120)
+        json.dump({**c.provenance(load_start), **settings, "simbody_version": s[0]["simbody_version"],
+                   "mujoco_version": f"{mjv // 100}.{mjv // 10 % 10}.{mjv % 10}", "rounds": rounds,
+                   "rhs_median_ns": rhs, "agreement": load("agree"), "rhs_raw": {"kanesens": k, "simbody": s, "mujoco": m},
+                   "tta": load("tta")}, f, indent=1)
 
 
 def main(argv=None):
@@ -323,6 +199,9 @@ def main(argv=None):
                     help="s; a peer method is not run at tighter settings once a run took longer")
     ap.add_argument("--build", default=c.env_default("KANESENS_BUILD_DIR", str(c.ROOT / "build")))
     ap.add_argument("--peers-build", default=c.env_default("PEERS_BUILD_DIR", str(c.ROOT / "build-peers")))
+    ap.add_argument("--integrators", default="rkm rkf rk3 verlet cpodes cpodes-adams",
+                    help="Simbody integrators (bench/peers/simbody_integrators.hpp)")
+    ap.add_argument("--mujoco-integrators", default="rk4 euler implicit")
     a = ap.parse_args(argv)
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -337,7 +216,7 @@ def main(argv=None):
                   options=["-DKANESENS_PEERS=ON", "-DCMAKE_BUILD_TYPE=Release"])
     simbody = c.peer_exe(a.peers_build, "simbody_fourbar_bench")
     mujoco = c.peer_exe(a.peers_build, "mujoco_fourbar_bench")
-    load_start = " ".join(c.loadavg())
+    load_start = c.loadavg()
 
     # 1. RHS speed, alternating.
     for r in range(1, a.rounds + 1):
@@ -349,13 +228,16 @@ def main(argv=None):
     c.write_json(raw / "agree.json", agreement(kanesens, raw))
 
     # 2. Time to accuracy, alternating the tools for every tolerance (every dt for MuJoCo).
+    sbi, mji = c.words(a.integrators), c.words(a.mujoco_integrators)
     tta = time_to_accuracy(kanesens, simbody, mujoco, work, [float(x) for x in c.words(a.tols)],
-                           [float(x) for x in c.words(a.dts)], a.tta_reps, a.budget)
+                           [float(x) for x in c.words(a.dts)], a.tta_reps, a.budget, sbi, mji)
     with open(raw / "tta.json", "w") as f:
         json.dump(tta, f, indent=1)
 
     ks_version = subprocess.run([str(kanesens), "--version"], capture_output=True, text=True).stdout.splitlines()[0]
-    print(report(out, raw, a.rounds, load_start, c.git_revision(), ks_version))
+    report(out, raw, a.rounds, load_start, {"kanesens_version": ks_version, "repeat": a.repeat, "tta_reps": a.tta_reps,
+                                            "budget_s": a.budget, "simbody_integrators": sbi, "mujoco_integrators": mji})
+    c.log(WHO, f"wrote {out / 'fourbar.json'}; tables and figure: bench/make_tables.py")
 
 
 if __name__ == "__main__":

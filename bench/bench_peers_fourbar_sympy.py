@@ -43,8 +43,8 @@ conservative), integrated over t in [0, 10]; the crank goes round 16.6 times (q1
   kept. A SciPy method whose run took more than --budget seconds is not run at tighter
   tolerances.
 
-Writes OUT/fourbar_sympy_scipy.json (every run), OUT/fourbar_sympy_scipy_table.md and
-OUT/fourbar_sympy_scipy_workprecision.png. Needs Debian's python3 (sympy, mpmath, scipy, numpy,
+Writes OUT/fourbar_sympy_scipy.json (every run, the command line); bench/make_tables.py makes
+docs/peers.md's tables and OUT/fourbar_sympy_scipy_workprecision.png from it. Needs Debian's python3 (sympy, mpmath, scipy, numpy,
 matplotlib).
 """
 
@@ -236,103 +236,11 @@ def main():
             "command": " ".join(sys.argv)}
     data = {"meta": meta, "derivation": derivation, "reference_check": checks, "runs": runs, "targets": targets}
     (out / "fourbar_sympy_scipy.json").write_text(json.dumps(data, indent=1))
-    (out / "fourbar_sympy_scipy_table.md").write_text(table(data))
-    plot(data, out / "fourbar_sympy_scipy_workprecision.png")
-    print(table(data))
+    print(f"wrote {out / 'fourbar_sympy_scipy.json'}; tables and figure: bench/make_tables.py", file=sys.stderr)
 
 
 def ms(t):
     return "—" if t is None or t["time_s"] is None else ("≤ " if t["how"] == "<=" else "") + f"{t['time_s'] * 1e3:,.1f}"
-
-
-def table(data) -> str:
-    m, d, c = data["meta"], data["derivation"], data["reference_check"]
-    kv = m["kanesens_variants"]
-    T = {(t["tool"], t["method"], t["target"]): t for t in data["targets"]}
-    lines = [f"Run {m['date']}, commit {m['git']} ({m['kanesens_version']}), {m['cpu']}, nproc {m['nproc']}, "
-             f"load average {' '.join(f'{x:.2f}' for x in m['loadavg_start'])} (start) / "
-             f"{' '.join(f'{x:.2f}' for x in m['loadavg_end'])} (end); median of {m['reps']} repetitions.", "",
-             "Derivation (the four-bar in SymPy KanesMethod → lambdified M, f; seconds):", "",
-             "| stage | wall | CPU |", "|---|---:|---:|"]
-    for k, name in (("build", "build (frames, points, bodies, KanesMethod)"), ("kanes_equations", "kanes_equations"),
-                    ("lambdify", "lambdify (cse)"), ("total", "total")):
-        lines.append(f"| {name} | {d[k + '_wall_s']:.3f} | {d[k + '_cpu_s']:.3f} |")
-    lines.append(f"\ncount_ops(M, f) = {d['count_ops_M_f']:,}.")
-    q = c["quadrature"]
-    lines += ["", f"Reference y_ref(10): energy quadrature (tests/sympy/four_bar_quadrature.py, mpmath, {q['dps']} "
-              f"digits; period {q['period_s']:.6f} s, {q['turns']} full crank turns before t = 10, slowest crank rate "
-              f"{q['min_crank_rate']:.2f} rad/s, {q['time_s']:.1f} s). Tight solutions against it "
-              "(atol = rtol·1e-2), max abs over the six states:", "",
-              "| solution | rtol | max abs (y − y_ref) | \\|g\\| at t = 10 | time (s) |", "|---|---:|---:|---:|---:|"]
-    for r in c["tight"]:
-        name = ("kanesens " + fk.label(r["method"])) if r["tool"] == "kanesens" else "SciPy " + r["method"]
-        lines.append(f"| {name} | {r['rtol']:.0e} | {r['error']:.1e} | {r['g_end']:.1e} | {r['time_s']:.2f} |")
-    lines.append(f"\nmax abs y_ref = {max(abs(x) for x in c['y_ref']):.1f} (the crank angle); "
-                 f"kanesens's y0 vs the {q['dps']}-digit y0: {c['y0_vs_exact']:.1e}.")
-    if m["kanesens_variants_skipped"]:
-        lines.append("Skipped (this kanesens has no such solver.method): "
-                     + ", ".join("kanesens " + fk.label(k) for k in m["kanesens_variants_skipped"]))
-    lines += ["", "Time to reach a final-time max abs error (ms, interpolated log-log on the tolerance sweep; "
-              "'≤' = the loosest tolerance already reaches it, '—' = not reached within the sweep/budget). "
-              "Ratio = fastest SciPy method / fastest kanesens variant:", "",
-              "| target | RK45 | DOP853 | Radau | LSODA | " + " | ".join("kanesens " + fk.label(k) for k in kv)
-              + " | ratio best SciPy / best kanesens |", "|---:|" + "---:|" * (4 + len(kv) + 1)]
-    for e in TARGETS:
-        cs = [T.get(("scipy", s, e)) for s in SCIPY_METHODS] + [T.get(("kanesens", k, e)) for k in kv]
-        sv = [(x["time_s"], x["method"]) for x in cs[:4] if x and x["time_s"] is not None]
-        kt = [(x["time_s"], fk.label(x["method"])) for x in cs[4:] if x and x["time_s"] is not None]
-        ratio = f"{min(sv)[0] / min(kt)[0]:,.1f} ({min(sv)[1]} / {min(kt)[1]})" if sv and kt else "—"
-        lines.append(f"| {e:.0e} | " + " | ".join(ms(x) for x in cs) + f" | {ratio} |")
-    lines += ["", "Final-time error and loop-closure residual \\|g\\| (m) per tolerance (error / \\|g\\|; "
-              "SciPy has no projection, kanesens BDF projects, embedding keeps A u = 0 exactly but not g):", "",
-              "| rtol | " + " | ".join(SCIPY_METHODS) + " | " + " | ".join("kanesens " + fk.label(k) for k in kv) + " |",
-              "|---:|" + "---:|" * (4 + len(kv))]
-    R = {(r["method"], r["rtol"]): r for r in data["runs"]}
-    for rt in m["rtols"]:
-        cells = [R.get((s, rt)) for s in SCIPY_METHODS + kv]
-        lines.append(f"| {rt:.0e} | " + " | ".join("—" if x is None else f"{x['error']:.0e} / {x['g_end']:.0e}"
-                                                     for x in cells) + " |")
-    return "\n".join(lines) + "\n"
-
-
-def plot(data, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4.8))
-    styles = {"RK45": ("tab:blue", "o", "-"), "DOP853": ("tab:orange", "s", "-"), "Radau": ("tab:green", "^", "-"),
-              "LSODA": ("tab:red", "v", "-"), "bdf/multipliers/projection": ("black", "D", "-"),
-              "adams/multipliers/baumgarte": ("tab:gray", "P", "--"), "adams/embedding/none": ("tab:purple", "X", "--"),
-              "bdf/embedding/projection": ("tab:brown", "d", ":"), "dop853/embedding/none": ("tab:olive", "*", "-."),
-              "dop853/multipliers/baumgarte": ("tab:cyan", "p", "-.")}
-    for name, (col, mk, ls) in styles.items():
-        pts = sorted([r for r in data["runs"] if r["method"] == name], key=lambda r: -r["rtol"])
-        if not pts:
-            continue
-        label = f"SciPy {name}" if pts[0]["tool"] == "scipy" else f"kanesens {fk.label(name)}"
-        lw = 1.6 if pts[0]["tool"] == "kanesens" else 1.2
-        ax.loglog([max(r["error"], 1e-16) for r in pts], [r["time_s"] for r in pts], color=col, marker=mk, ls=ls,
-                  lw=lw, ms=5, label=label)
-        ax2.loglog([r["rtol"] for r in pts], [max(r["g_end"], 1e-17) for r in pts], color=col, marker=mk, ls=ls,
-                   lw=lw, ms=5, label=label)
-    for e in TARGETS:
-        ax.axvline(e, color="0.85", lw=0.8, zorder=0)
-    ax.set_title("four-bar crank-rocker, t ∈ [0, 10]: work-precision")
-    ax.set_xlabel("final-time max abs error over (q, u)")
-    ax.set_ylabel("wall time per solve (s)")
-    ax.invert_xaxis()
-    ax.legend(fontsize=7.5, loc="upper left")
-    ax2.set_title("loop-closure residual |g(q(10))|")
-    ax2.set_xlabel("rtol (atol = rtol·1e-2)")
-    ax2.set_ylabel("max |g| at t = 10 (m)")
-    ax2.invert_xaxis()
-    for x in (ax, ax2):
-        x.grid(True, which="major", alpha=0.3)
-    m = data["meta"]
-    fig.suptitle(f"kanesens (CVODES; DOP853 where available) vs SymPy KanesMethod + SciPy solve_ivp — {m['date']}, {m['cpu']}, "
-                 f"nproc {m['nproc']}, rtol sweep, atol = rtol·1e-2", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
 
 
 if __name__ == "__main__":

@@ -19,22 +19,22 @@ KANESENS_PEERS=1 tools/install-deps.sh) into the build directory, then in ONE ru
  2. Time to accuracy (TTA_NS): t in [0, 10] from scripts/gen_chain.py's initial state
     (q1 = 0.5, rest 0), kanesens simulate (bdf with the exact Jacobian, adams, dop853; rtol
     swept, atol = rtol·1e-2) alternating with Simbody's RungeKuttaMersonIntegrator and
-    CPodesIntegrator (BDF/Newton, finite-difference Jacobian) at accuracy = the same values;
+    its other integrators at accuracy = the same values;
     error = max abs over states of y(10) − y_ref(10), y_ref = kanesens adams at rtol 1e-14
     (atol 1e-16; as bench/bench_peers_sympy.py, which checks it against SciPy's DOP853). A
     Simbody integrator whose run took longer than BUDGET s is not run at tighter tolerances
     for that N.
 
-Writes OUT_DIR (default docs/peers) simbody.md (tables), simbody.json (all raw results) and
-simbody_workprecision.png.
+Simbody's integrators (--integrators): RungeKuttaMerson, RungeKuttaFeldberg, RungeKutta3,
+Verlet, CPodes BDF/Newton and CPodes Adams/functional (bench/peers/simbody_integrators.hpp).
+
+Writes OUT_DIR (default docs/peers) simbody.json (all raw results and the command line);
+bench/make_tables.py makes docs/peers.md's tables and simbody_workprecision.png from it.
 """
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
-import os
-import platform
 import subprocess
 import tempfile
 from pathlib import Path
@@ -50,7 +50,7 @@ def agreement(kanesens, scene, sb) -> dict:
             "max_abs_udot": max(abs(x) for x in sb["udot"])}
 
 
-def time_to_accuracy(kanesens, simbody, work: Path, ns, tols, reps, budget) -> dict:
+def time_to_accuracy(kanesens, simbody, work: Path, ns, tols, reps, budget, integrators) -> dict:
     def ks(study, method, rtol):
         o = c.run_json([kanesens, "simulate", study, "--format", "json", "--set", f"solver.method={method}",
                         "--set", f"solver.rtol={rtol!r}", "--set", f"solver.atol={rtol * 1e-2!r}"])
@@ -82,10 +82,16 @@ def time_to_accuracy(kanesens, simbody, work: Path, ns, tols, reps, budget) -> d
         diff = lambda y: max(abs(a - b) for a, b in zip(y, ref))
         refs.append({"n": n, "y_ref": ref, "adams_1e-13_vs_ref": diff(ks(study, "adams", 1e-13)["y_end"]),
                      "bdf_1e-14_vs_ref": diff(ks(study, "bdf", 1e-14)["y_end"])})
-        active = {"rkm", "cpodes"}
+        active = set(integrators)
         for tol in tols:
-            tools = [("kanesens", "bdf"), ("simbody", "rkm"), ("kanesens", "adams"), ("simbody", "cpodes"),
-                     ("kanesens", "dop853")]
+            # Interleaved: kanesens, Simbody, kanesens, Simbody, ... per tolerance.
+            ks_methods = ["bdf", "adams", "dop853"]
+            tools = []
+            for i in range(max(len(ks_methods), len(integrators))):
+                if i < len(ks_methods):
+                    tools.append(("kanesens", ks_methods[i]))
+                if i < len(integrators):
+                    tools.append(("simbody", integrators[i]))
             tools = [t for t in tools if t[0] == "kanesens" or t[1] in active]
             res = {t: [] for t in tools}
             for rep in range(reps):
@@ -109,12 +115,11 @@ def time_to_accuracy(kanesens, simbody, work: Path, ns, tols, reps, budget) -> d
     return {"rows": rows, "refs": refs}
 
 
-def report(out: Path, raw: Path, rounds: int, ns, load_start: str, git: str) -> str:
-    """Tables (simbody.md), all results (simbody.json) and the work-precision plot."""
+def report(out: Path, raw: Path, rounds: int, ns, load_start, settings: dict) -> None:
+    """All results in OUT_DIR/simbody.json; bench/make_tables.py turns them into docs/peers.md's
+    tables and figure."""
     load = lambda f: c.load_json(raw / f"{f}.json")
     med = c.median
-    cpu = c.cpu_model()
-    load_end = " ".join(c.loadavg())
     rows, rhs_raw = [], {}
     for n in ns:
         k = [load(f"kanesens_{n}_{r}") for r in range(1, rounds + 1)]
@@ -124,89 +129,9 @@ def report(out: Path, raw: Path, rounds: int, ns, load_start: str, git: str) -> 
                      "simbody_realize_ns": med([x["realize_acceleration"]["median_ns"] for x in s]),
                      "simbody_version": s[0]["simbody_version"], "agreement": load(f"agree_{n}")})
         rhs_raw[n] = {"kanesens": k, "simbody": s}
-    eps = lambda x: 1e9 / x
-    L = [f"Date {datetime.date.today()}, commit {git}, {cpu}, nproc {os.cpu_count()}, load average {load_start} "
-         f"(start) / {load_end} (end), {rounds} rounds; medians over rounds of medians over batches.", "",
-         "| N | kanesens RHS (eval/s) | kanesens M+f (eval/s) | Simbody realize(Acceleration) (eval/s) | "
-         "ratio kanesens RHS / Simbody | max abs(u̇ kanesens − u̇ Simbody) | max abs u̇ |",
-         "|---:|---:|---:|---:|---:|---:|---:|"]
-    for r in rows:
-        L.append(f"| {r['n']} | {eps(r['kanesens_rhs_ns']):,.0f} | {eps(r['kanesens_mf_ns']):,.0f} | "
-                 f"{eps(r['simbody_realize_ns']):,.0f} | {r['simbody_realize_ns'] / r['kanesens_rhs_ns']:.1f} | "
-                 f"{r['agreement']['max_abs_diff_udot']:.1e} | {r['agreement']['max_abs_udot']:.1f} |")
-
-    tta = load("tta")
-    targets = [1e-4, 1e-6, 1e-8, 1e-10]
-    tns = sorted({r["n"] for r in tta["rows"]})
-    methods = [("simbody", "rkm"), ("simbody", "cpodes"), ("kanesens", "bdf"), ("kanesens", "adams"),
-               ("kanesens", "dop853")]
-    T = {}
-    for n in tns:
-        for tool, m in methods:
-            pts = sorted([(r["tol"], r["error"], r["time_s"]) for r in tta["rows"]
-                          if r["n"] == n and r["tool"] == tool and r["method"] == m and r["error"] is not None],
-                         key=lambda p: -p[0])
-            for e in targets:
-                T[(n, tool, m, e)] = c.time_at(pts, e)
-    cell = lambda v: "—" if v[0] is None else ("≤ " if v[1] == "<=" else "") + f"{v[0] * 1e3:,.2f}"
-    L += ["", "Time to reach a final-time max abs error, t ∈ [0, 10] (ms; log-log interpolation on the tolerance sweep; "
-          "'≤' = the loosest tolerance already reaches it; '—' = not reached in the sweep or budget):", "",
-          "| N | target | Simbody RK-Merson | Simbody CPodes BDF | kanesens BDF | kanesens Adams | kanesens DOP853 | "
-          "ratio best Simbody / best kanesens |", "|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    tta_table = []
-    for n in tns:
-        for e in targets:
-            vs = [T[(n, t, m, e)] for t, m in methods]
-            s = [v[0] for v in vs[:2] if v[0] is not None]
-            k = [v[0] for v in vs[2:] if v[0] is not None]
-            ratio = f"{min(s) / min(k):,.1f}" if s and k else "—"
-            tta_table.append({"n": n, "target": e, **{f"{t}_{m}": v[0] for (t, m), v in zip(methods, vs)},
-                              "ratio_best": (min(s) / min(k)) if s and k else None})
-            L.append(f"| {n} | {e:.0e} | " + " | ".join(cell(v) for v in vs) + f" | {ratio} |")
-    L += ["", "Reference y_ref(10): kanesens adams at rtol 1e-14 (atol 1e-16). Max abs difference from it of kanesens "
-          "adams at rtol 1e-13 / bdf at rtol 1e-14: " +
-          ", ".join(f"N = {r['n']}: {r['adams_1e-13_vs_ref']:.1e} / {r['bdf_1e-14_vs_ref']:.1e}" for r in tta["refs"]) + "."]
-    table = "\n".join(L) + "\n"
-    (out / "simbody.md").write_text(table)
     with open(out / "simbody.json", "w") as f:
-        json.dump({"date": str(datetime.date.today()), "git": git, "cpu": cpu, "nproc": os.cpu_count(),
-                   "loadavg_start": load_start, "loadavg_end": load_end, "platform": platform.platform(),
-                   "rounds": rounds, "rhs_rows": rows, "rhs_raw": rhs_raw, "tta": tta, "tta_table": tta_table},
-                  f, indent=1)
-    plot(out / "simbody_workprecision.png", tta, tns, targets, rows[0]["simbody_version"], cpu)
-    return table
-
-
-def plot(png: Path, tta, tns, targets, simbody_version, cpu) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, len(tns), figsize=(5.2 * len(tns), 4.6), sharey=True, squeeze=False)
-    sty = {("simbody", "rkm"): ("tab:purple", "o", "-", "Simbody RK-Merson"),
-           ("simbody", "cpodes"): ("tab:brown", "s", "-", "Simbody CPodes BDF"),
-           ("kanesens", "bdf"): ("black", "D", "-", "kanesens BDF"),
-           ("kanesens", "adams"): ("tab:gray", "P", "--", "kanesens Adams"),
-           ("kanesens", "dop853"): ("tab:olive", "*", "-.", "kanesens DOP853")}
-    for ax, n in zip(axes[0], tns):
-        for key, (col, mk, ls, lab) in sty.items():
-            pts = sorted([(r["tol"], r["error"], r["time_s"]) for r in tta["rows"] if r["n"] == n and
-                          (r["tool"], r["method"]) == key and r["error"] is not None], key=lambda p: -p[0])
-            if pts:
-                ax.loglog([max(p[1], 1e-16) for p in pts], [p[2] for p in pts], color=col, marker=mk, ls=ls, ms=5,
-                          label=lab)
-        for e in targets:
-            ax.axvline(e, color="0.85", lw=0.8, zorder=0)
-        ax.invert_xaxis()
-        ax.grid(True, alpha=0.3)
-        ax.set_title(f"planar {n}-link chain, t ∈ [0, 10]")
-        ax.set_xlabel("final-time max abs error over states")
-    axes[0][0].set_ylabel("wall time per solve (s)")
-    axes[0][0].legend(fontsize=8, loc="upper left")
-    fig.suptitle(f"Work-precision: kanesens (CVODES) vs Simbody {simbody_version} — {datetime.date.today()}, "
-                 f"{cpu}, nproc {os.cpu_count()}; tolerance sweep (kanesens atol = rtol·1e-2)", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(png, dpi=120)
+        json.dump({**c.provenance(load_start), **settings, "rounds": rounds, "rhs_rows": rows,
+                   "rhs_raw": rhs_raw, "tta": load("tta")}, f, indent=1)
 
 
 def main(argv=None):
@@ -221,6 +146,8 @@ def main(argv=None):
     ap.add_argument("--budget", type=float, default=float(c.env_default("BUDGET", 20)),
                     help="s; a Simbody integrator whose run took longer is not run at tighter tolerances for that N")
     ap.add_argument("--build", default=c.env_default("KANESENS_BUILD_DIR", str(c.ROOT / "build")))
+    ap.add_argument("--integrators", default="rkm rkf rk3 verlet cpodes cpodes-adams",
+                    help="Simbody integrators of the time to accuracy (bench/peers/simbody_integrators.hpp)")
     a = ap.parse_args(argv)
     out, ns = Path(a.out), [int(x) for x in c.words(a.ns)]
     out.mkdir(parents=True, exist_ok=True)
@@ -231,7 +158,7 @@ def main(argv=None):
 
     c.cmake_build(a.build, ["kanesens", "simbody_chain_bench"], options=["-DKANESENS_PEERS=ON"], configure="always")
     kanesens, simbody = c.kanesens_exe(a.build), c.peer_exe(a.build, "simbody_chain_bench")
-    load_start = " ".join(c.loadavg())
+    load_start = c.loadavg()
     for n in ns:  # the benchmark chain of bench/bench_rhs.py (untilted)
         (work / "scenes" / f"chain{n}.yaml").write_text(c.chain_scene_yaml(n))
 
@@ -248,11 +175,14 @@ def main(argv=None):
                      agreement(kanesens, work / "scenes" / f"chain{n}.yaml", c.load_json(raw / f"simbody_{n}_1.json")))
 
     # 2. Time to accuracy, alternating kanesens and Simbody for every N and tolerance.
+    integrators = c.words(a.integrators)
     tta = time_to_accuracy(kanesens, simbody, work, [int(x) for x in c.words(a.tta_ns)],
-                           [float(x) for x in c.words(a.tols)], a.tta_reps, a.budget)
+                           [float(x) for x in c.words(a.tols)], a.tta_reps, a.budget, integrators)
     with open(raw / "tta.json", "w") as f:
         json.dump(tta, f, indent=1)
-    print(report(out, raw, a.rounds, ns, load_start, c.git_revision()))
+    report(out, raw, a.rounds, ns, load_start,
+           {"repeat": a.repeat, "tta_reps": a.tta_reps, "budget_s": a.budget, "integrators": integrators})
+    c.log(WHO, f"wrote {out / 'simbody.json'}; tables and figure: bench/make_tables.py")
 
 
 if __name__ == "__main__":

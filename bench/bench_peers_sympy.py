@@ -26,8 +26,8 @@ integrated over t in [0, 10].
   --reps times (1 time once a run took more than 2 s); the median is kept. A SciPy method whose
   run took more than --budget seconds is not run at tighter tolerances for that N.
 
-Writes OUT/sympy_scipy.json (every run), OUT/sympy_scipy_table.md and
-OUT/sympy_scipy_workprecision.png. Needs Debian's python3 (sympy, scipy, numpy, matplotlib).
+Writes OUT/sympy_scipy.json (every run, the command line); bench/make_tables.py makes
+docs/peers.md's tables and OUT/sympy_scipy_workprecision.png from it. Needs Debian's python3 (sympy, scipy, numpy, matplotlib).
 """
 
 from __future__ import annotations
@@ -35,10 +35,8 @@ from __future__ import annotations
 import argparse
 import datetime
 import json
-import math
 import os
 import platform
-import resource
 import statistics
 import subprocess
 import sys
@@ -224,87 +222,7 @@ def main():
             "command": " ".join(sys.argv)}
     data = {"meta": meta, "derivation": derivations, "reference_check": refchecks, "runs": runs, "targets": targets}
     (out / "sympy_scipy.json").write_text(json.dumps(data, indent=1))
-    (out / "sympy_scipy_table.md").write_text(table(data))
-    plot(data, out / "sympy_scipy_workprecision.png")
-    print(table(data))
-
-
-def table(data) -> str:
-    ns = sorted({d["n"] for d in data["derivation"]})
-    T = {(t["n"], t["tool"], t["method"], t["target"]): t for t in data["targets"]}
-
-    def cell(t):
-        if t is None or t["time_s"] is None:
-            return "—"
-        return ("≤ " if t["how"] == "<=" else "") + f"{t['time_s'] * 1e3:,.1f}"
-
-    lines = ["Derivation (SymPy KanesMethod on the scene → lambdified M, f; wall s, CPU s in the last column):", "",
-             "| N | build_model | kanes_equations | lambdify (cse) | total wall | total CPU | count_ops(M, f) |",
-             "|---:|---:|---:|---:|---:|---:|---:|"]
-    for d in data["derivation"]:
-        lines.append(f"| {d['n']} | {d['build_model_wall_s']:.2f} | {d['kanes_equations_wall_s']:.2f} | "
-                     f"{d['lambdify_wall_s']:.2f} | {d['total_wall_s']:.2f} | {d['total_cpu_s']:.2f} | "
-                     f"{d['count_ops_M_f']:,} |")
-    rr, cr = data["meta"]["ref_rtol"], data["meta"]["check_rtol"]
-    lines += ["", f"Reference y_ref(10): kanesens Adams at rtol {rr:.0e}, atol {rr * 1e-2:.0e}. Max abs difference "
-              "of other tight solutions from it (atol = rtol·1e-2):", "",
-              f"| N | kanesens Adams rtol {cr:.0e} | kanesens BDF rtol {rr:.0e} | SciPy DOP853 rtol {cr:.0e} | "
-              "max abs y_ref |", "|---:|---:|---:|---:|---:|"]
-    for c in data["reference_check"]:
-        lines.append(f"| {c['n']} | {c['kanesens_adams_check_vs_ref']:.1e} | {c['kanesens_bdf_ref_rtol_vs_ref']:.1e} | "
-                     f"{c['scipy_dop853_check_vs_ref']:.1e} | {max(abs(x) for x in c['y_ref']):.2f} |")
-    lines += ["", "Time to reach a final-time max abs error (ms, interpolated log-log on the tolerance sweep; "
-              "'≤' = the loosest tolerance already reaches it, '—' = not reached within the sweep/budget). "
-              "Ratio = fastest SciPy method / fastest kanesens method:", "",
-              "| N | target | RK45 | DOP853 | Radau | LSODA | kanesens BDF | kanesens Adams | kanesens DOP853 | "
-              "ratio best SciPy / best kanesens | ratio SciPy DOP853 / kanesens DOP853 |",
-              "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    for n in ns:
-        for e in TARGETS:
-            cs = [T.get((n, "scipy", m, e)) for m in SCIPY_METHODS] + [T.get((n, "kanesens", m, e)) for m in KANESENS_METHODS]
-            sv = [(c["time_s"], c["method"]) for c in cs[:4] if c and c["time_s"] is not None]
-            kv = [(c["time_s"], c["method"]) for c in cs[4:] if c and c["time_s"] is not None]
-            ratio = f"{min(sv)[0] / min(kv)[0]:,.0f} ({min(sv)[1]} / {min(kv)[1]})" if sv and kv else "—"
-            # The same algorithm on both sides: what the compiled right-hand side buys.
-            d, b = T.get((n, "scipy", "DOP853", e)), T.get((n, "kanesens", "dop853", e))
-            r2 = f"{d['time_s'] / b['time_s']:,.0f}" if d and b and d["time_s"] and b["time_s"] else "—"
-            lines.append(f"| {n} | {e:.0e} | " + " | ".join(cell(c) for c in cs) + f" | {ratio} | {r2} |")
-    return "\n".join(lines) + "\n"
-
-
-def plot(data, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    ns = sorted({d["n"] for d in data["derivation"]})
-    fig, axes = plt.subplots(1, len(ns), figsize=(5.2 * len(ns), 4.6), sharey=True)
-    axes = np.atleast_1d(axes)
-    styles = {("scipy", "RK45"): ("tab:blue", "o", "-"), ("scipy", "DOP853"): ("tab:orange", "s", "-"),
-              ("scipy", "Radau"): ("tab:green", "^", "-"), ("scipy", "LSODA"): ("tab:red", "v", "-"),
-              ("kanesens", "bdf"): ("black", "D", "-"), ("kanesens", "adams"): ("tab:gray", "P", "--"),
-              ("kanesens", "dop853"): ("tab:olive", "*", "-.")}
-    for ax, n in zip(axes, ns):
-        for (tool, m), (c, mk, ls) in styles.items():
-            pts = sorted([(r["rtol"], r["error"], r["time_s"]) for r in data["runs"]
-                          if r["n"] == n and r["tool"] == tool and r["method"] == m], key=lambda p: -p[0])
-            if not pts:
-                continue
-            label = f"SciPy {m}" if tool == "scipy" else f"kanesens {dict(bdf='BDF', adams='Adams', dop853='DOP853')[m]}"
-            ax.loglog([max(p[1], 1e-16) for p in pts], [p[2] for p in pts], color=c, marker=mk, ls=ls,
-                      lw=1.6 if tool == "kanesens" else 1.2, ms=5, label=label)
-        for e in TARGETS:
-            ax.axvline(e, color="0.85", lw=0.8, zorder=0)
-        ax.set_title(f"planar {n}-link chain, t ∈ [0, 10]")
-        ax.set_xlabel("final-time max abs error over states")
-        ax.invert_xaxis()
-        ax.grid(True, which="major", alpha=0.3)
-    axes[0].set_ylabel("wall time per solve (s)")
-    axes[0].legend(fontsize=8, loc="upper left")
-    m = data["meta"]
-    fig.suptitle(f"Work-precision: kanesens (CVODES, DOP853) vs SymPy KanesMethod + SciPy solve_ivp — "
-                 f"{m['date']}, {m['cpu']}, nproc {m['nproc']}, rtol sweep, atol = rtol·1e-2", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    print(f"wrote {out / 'sympy_scipy.json'}; tables and figure: bench/make_tables.py", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -17,15 +17,14 @@ kanesens evaluates it with the general 3-D code). Each program reports a median 
 the tables show the median of those over the rounds. Check: kanesens eom's u̇ at MuJoCo's state
 against MuJoCo's qacc, on both chains.
 
-Writes OUT_DIR (default out/bench) bench_rhs.md (markdown tables), bench_rhs.json (all raw
-results), scenes/ and raw/.
+Writes --json (default bench/results/bench_rhs.json: every round of every program, the command
+line) and, in OUT_DIR (default out/bench), the scenes/ and raw/ files; bench/make_tables.py makes
+docs/benchmarks.md's tables from the JSON.
 """
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
-import platform
 from pathlib import Path
 
 import common as c
@@ -40,7 +39,7 @@ def agreement(kanesens, scene, mj) -> dict:
     return {"max_abs_diff_udot_qacc": max(abs(a - b) for a, b in zip(ks["udot"], mj["qacc"])), "scale": scale}
 
 
-def report(out: Path, rounds: int, ns, spatial_axes: str, load_start) -> str:
+def report(out: Path, json_out: Path, rounds: int, repeat: int, ns, spatial_axes: str, load_start) -> None:
     load = lambda f: c.load_json(out / "raw" / f"{f}.json")
     med = c.median
     rows, raw = [], {}
@@ -64,40 +63,9 @@ def report(out: Path, rounds: int, ns, spatial_axes: str, load_start) -> str:
                      "spatial_path": ks[0].get("path", "?"),
                      "agreement": load(f"agree_{n}"), "agreement_spatial": load(f"agree_spatial_{n}")})
         raw[n] = {"kanesens": k, "mujoco": m, "kanesens_tilted": t, "kanesens_spatial": ks, "mujoco_spatial": ms}
-    cpu, nproc, load_avg = c.cpu_model(), str(c.nproc()), c.loadavg()
-    eps = lambda ns_: 1e9 / ns_
-    lines = [f"Date {datetime.date.today()}, commit {c.git_revision()}, {cpu}, nproc {nproc}, "
-             f"load average at the start {' '.join(load_start)}, at the end {' '.join(load_avg)}, "
-             f"{rounds} rounds, medians over rounds of medians over batches.", "",
-             "| N | kanesens RHS (eval/s) | kanesens M+f (eval/s) | MuJoCo mj_forward (eval/s) | "
-             "speed ratio RHS : mj_forward | kanesens Dual Jacobian (µs) | 3-D path RHS (eval/s) | planar speedup | "
-             "max abs(udot − qacc) |",
-             "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    for r in rows:
-        lines.append(f"| {r['n']} | {eps(r['kanesens_rhs_ns']):,.0f} | {eps(r['kanesens_mf_ns']):,.0f} | "
-                     f"{eps(r['mujoco_forward_ns']):,.0f} | {r['mujoco_forward_ns'] / r['kanesens_rhs_ns']:.2f} | "
-                     f"{r['kanesens_jacobian_ns'] / 1e3:.2f} | {eps(r['kanesens_3d_rhs_ns']):,.0f} | "
-                     f"{r['kanesens_3d_rhs_ns'] / r['kanesens_rhs_ns']:.2f} | "
-                     f"{r['agreement']['max_abs_diff_udot_qacc']:.1e} |")
-    lines += ["", f"Spatial chain (joint axes {spatial_axes}, cycled) beside the planar chain, ns per evaluation "
-              "(ratio = MuJoCo mj_forward time / kanesens RHS time on the same chain):", "",
-              "| N | kanesens 3-D RHS, spatial (ns) | MuJoCo mj_forward, spatial (ns) | ratio 3-D | "
-              "kanesens planar RHS (ns) | MuJoCo mj_forward, planar (ns) | ratio planar | "
-              "max abs(udot − qacc), spatial |",
-              "|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    for r in rows:
-        lines.append(f"| {r['n']} | {r['kanesens_spatial_rhs_ns']:,.0f} | {r['mujoco_spatial_forward_ns']:,.0f} | "
-                     f"{r['mujoco_spatial_forward_ns'] / r['kanesens_spatial_rhs_ns']:.2f} | "
-                     f"{r['kanesens_rhs_ns']:,.0f} | {r['mujoco_forward_ns']:,.0f} | "
-                     f"{r['mujoco_forward_ns'] / r['kanesens_rhs_ns']:.2f} | "
-                     f"{r['agreement_spatial']['max_abs_diff_udot_qacc']:.1e} |")
-    table = "\n".join(lines) + "\n"
-    (out / "bench_rhs.md").write_text(table)
-    with open(out / "bench_rhs.json", "w") as f:
-        json.dump({"date": str(datetime.date.today()), "commit": c.git_revision(), "cpu": cpu, "nproc": nproc,
-                   "loadavg_start": load_start, "loadavg_end": load_avg, "platform": platform.platform(),
-                   "rounds": rounds, "spatial_axes": spatial_axes, "rows": rows, "raw": raw}, f, indent=1)
-    return table
+    with open(json_out, "w") as f:
+        json.dump({**c.provenance(load_start), "rounds": rounds, "repeat": repeat, "spatial_axes": spatial_axes,
+                   "rows": rows, "raw": raw}, f, indent=1)
 
 
 def main(argv=None):
@@ -109,6 +77,8 @@ def main(argv=None):
     ap.add_argument("--build", default=c.env_default("KANESENS_BUILD_DIR", str(c.ROOT / "build-bench")))
     ap.add_argument("--spatial-axes", default="z,x",
                     help="joint axes of the spatial chain, cycled (letters x, y, z)")
+    ap.add_argument("--json", default=str(c.ROOT / "bench" / "results" / "bench_rhs.json"),
+                    help="where the results go (all rounds, the command line)")
     a = ap.parse_args(argv)
     out, ns = Path(a.out), [int(x) for x in c.words(a.ns)]
     (out / "scenes").mkdir(parents=True, exist_ok=True)
@@ -143,7 +113,8 @@ def main(argv=None):
         c.write_json(out / "raw" / f"agree_spatial_{n}.json",
                      agreement(kanesens, out / "scenes" / f"chain{n}_spatial.yaml", mj))
 
-    print(report(out, a.rounds, ns, a.spatial_axes, load_start))
+    report(out, Path(a.json), a.rounds, a.repeat, ns, a.spatial_axes, load_start)
+    c.log(WHO, f"wrote {a.json}; tables: bench/make_tables.py")
 
 
 if __name__ == "__main__":

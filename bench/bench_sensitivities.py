@@ -9,8 +9,8 @@
    exact (dual numbers) and CVODES difference-quotient sensitivity right-hand sides, staggered
    corrector; and DOP853 (solver.method: dop853, sensitivities by its own stages, exact RHS).
 2. Time per trajectory of the N-link chain (N = 2, 8, 32) at rtol 1e-8, no sensitivities.
-Medians of K runs of `kanesens simulate` (stats.wall_seconds: the integration). Prints markdown
-tables.
+Medians of K runs of `kanesens simulate` (stats.wall_seconds: the integration). Writes
+bench/results/bench_sensitivities.json (--out); bench/make_tables.py makes the tables.
 """
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ def study_text(scene) -> str:
             "solver: {rtol: 1.0e-8, atol: 1.0e-10}\n")
 
 
-def sensitivity_table(exe, study, k):
+def sensitivity_rows(exe, study, k) -> list[dict]:
     def run(sens, rhs, method="bdf"):
         args = [exe, "simulate", study, "--set", f"solver.sensitivity.rhs={rhs}", "--set", f"solver.method={method}",
                 "--sens", sens]
@@ -38,35 +38,41 @@ def sensitivity_table(exe, study, k):
         for _ in range(k):
             d = json.loads(subprocess.run([str(a) for a in args], capture_output=True, text=True).stdout)
             if d["status"] != 1:
-                return None, d
+                return None, d, walls
             walls.append(d["stats"]["wall_seconds"])
             st = d["stats"]
-        return c.median(walls), st
+        return c.median(walls), st, walls
 
-    print("| method | S | sens RHS | median wall (ms) | wall / plain | per added sensitivity | steps | RHS evals | "
-          "sens RHS evals | RHS evals for DQ |")
-    print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|")
+    rows = []
     for method, kinds in (("bdf", ("exact", "dq")), ("dop853", ("exact",))):
-        base, bst = run("none", "exact", method)
-        print(f"| {method} | 0 | — | {base * 1e3:.2f} | 1.00 | — | {bst['steps']} | {bst['rhs_evals']} | 0 | 0 |")
+        base, bst, walls = run("none", "exact", method)
+        rows.append({"method": method, "S": 0, "sens_rhs": "—", "median_wall_s": base, "wall_s": walls,
+                     "wall_over_plain": 1.0, "steps": bst["steps"], "rhs_evals": bst["rhs_evals"],
+                     "sens_rhs_evals": 0, "rhs_evals_dq": 0})
         for sens in SETS[1:]:
             S = len(sens.split(","))
             for rhs in kinds:
-                w, st = run(sens, rhs, method)
+                c.log("bench_sensitivities", f"{method} S={S} {rhs}")
+                w, st, walls = run(sens, rhs, method)
                 if w is None:
-                    print(f"| {method} | {S} | {rhs} | failed: {st['message'].split(':')[0]} | | | | | | |")
+                    rows.append({"method": method, "S": S, "sens_rhs": rhs, "failed": st["message"].split(":")[0],
+                                 "message": st["message"]})
                     continue
-                print(f"| {method} | {S} | {rhs} | {w * 1e3:.2f} | {w / base:.2f} | {(w / base - 1) / S:.2f} | "
-                      f"{st['steps']} | {st['rhs_evals']} | {st['sens_rhs_evals']} | {st['rhs_evals_for_sens']} |")
+                rows.append({"method": method, "S": S, "sens_rhs": rhs, "median_wall_s": w, "wall_s": walls,
+                             "wall_over_plain": w / base, "per_added": (w / base - 1) / S, "steps": st["steps"],
+                             "rhs_evals": st["rhs_evals"], "sens_rhs_evals": st["sens_rhs_evals"],
+                             "rhs_evals_dq": st["rhs_evals_for_sens"]})
+    return rows
 
 
-def trajectory_row(exe, study, k, n):
+def trajectory_row(exe, study, k, n) -> dict:
     walls = []
     for _ in range(k):
         d = c.run_json([exe, "simulate", study])
         walls.append(d["stats"]["wall_seconds"])
         st = d["stats"]
-    print(f"| {n} | {c.median(walls) * 1e3:.1f} | {st['steps']} | {st['rhs_evals']} | {st['jac_evals']} |")
+    return {"n": n, "median_wall_s": c.median(walls), "wall_s": walls, "steps": st["steps"],
+            "rhs_evals": st["rhs_evals"], "jacobians": st["jac_evals"]}
 
 
 def main(argv=None):
@@ -74,18 +80,22 @@ def main(argv=None):
     ap.add_argument("-k", type=int, default=int(c.env_default("K", 5)), help="runs per median")
     ap.add_argument("--kanesens", default=c.env_default("KANESENS", str(c.kanesens_exe(c.ROOT / "build"))))
     ap.add_argument("--ns", default="2 8 32", help="chain sizes of the time-per-trajectory table")
+    ap.add_argument("--out", default=str(c.ROOT / "bench" / "results" / "bench_sensitivities.json"))
     a = ap.parse_args(argv)
+    load_start = c.loadavg()
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         (work / "chain4.yaml").write_text(study_text(c.CONFIGS / "nlink_chain_4.yaml"))
-        sensitivity_table(a.kanesens, work / "chain4.yaml", a.k)
-        print()
-        print("| N | median wall per trajectory (ms), 10 s, rtol 1e-8 | steps | RHS evals | Jacobians |")
-        print("|---:|---:|---:|---:|---:|")
+        rows = sensitivity_rows(a.kanesens, work / "chain4.yaml", a.k)
+        chains = []
         for n in [int(x) for x in c.words(a.ns)]:
             (work / f"chain{n}.yaml").write_text(c.gen_chain_yaml(n, damper=0.01))
             (work / f"s{n}.yaml").write_text(study_text(f"chain{n}.yaml"))
-            trajectory_row(a.kanesens, work / f"s{n}.yaml", a.k, n)
+            chains.append(trajectory_row(a.kanesens, work / f"s{n}.yaml", a.k, n))
+    Path(a.out).write_text(json.dumps({**c.provenance(load_start), "runs_per_median": a.k,
+                                       "study": "configs/nlink_chain_4.yaml, 10 s, 101 outputs, rtol 1e-8, atol 1e-10",
+                                       "rows": rows, "chains": chains}, indent=1))
+    c.log("bench_sensitivities", f"wrote {a.out}; tables: bench/make_tables.py")
 
 
 if __name__ == "__main__":

@@ -166,6 +166,17 @@ def time_at(points, target):
     return None, "not reached"
 
 
+def provenance(load_start=None) -> dict:
+    """What a result JSON records about how it was made: the command line (as typed, relative to
+    the repository), date, commit, machine, load."""
+    argv = [sys.executable, os.path.relpath(sys.argv[0], ROOT)] + sys.argv[1:]
+    import datetime
+    import platform
+    return {"command": " ".join(shlex.quote(a) for a in argv), "date": str(datetime.date.today()),
+            "commit": git_revision(), "cpu": cpu_model(), "nproc": nproc(), "platform": platform.platform(),
+            "loadavg_start": load_start, "loadavg_end": loadavg()}
+
+
 def words(value) -> list[str]:
     """A space- or comma-separated list given on the command line or in the environment."""
     return str(value).replace(",", " ").split()

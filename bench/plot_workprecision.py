@@ -20,6 +20,7 @@ import json
 import math
 import os
 import sys
+import textwrap
 
 import matplotlib
 
@@ -54,7 +55,7 @@ def finite(x):
     return x is not None and isinstance(x, (int, float)) and math.isfinite(x) and x > 0
 
 
-def panel(ax, data, error_key, work_key, title, max_error):
+def panel(ax, data, error_key, work_key, title, max_error, reference=""):
     rows = [r for r in data["rows"] if not r.get("skipped")]
     if error_key.startswith("sens_"):  # only the runs that integrated sensitivities
         rows = [r for r in rows if r.get("with_sens")]
@@ -91,14 +92,18 @@ def panel(ax, data, error_key, work_key, title, max_error):
             plotted = True
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel(LABEL.get(error_key, error_key).format(floor=data.get("error_floor", 0)))
+    xlabel = LABEL.get(error_key, error_key).format(floor=data.get("error_floor", 0))
+    if reference and error_key not in ("energy_drift", "quaternion_norm_drift"):
+        xlabel += f"\nagainst {reference}"
+    ax.set_xlabel(xlabel)
     ax.set_ylabel(LABEL.get(work_key, work_key))
-    ax.set_title(title, fontsize=10)
+    ax.set_title("\n".join(textwrap.wrap(title, 70)) if "\n" not in title else title, fontsize=9)
     ax.grid(True, which="major", alpha=0.4)
     ax.grid(True, which="minor", alpha=0.12)
     if any(not usable(r) for r in rows):
         ax.axvline(fail_x / 2, color="0.6", lw=0.8, ls="--")
-        ax.text(fail_x, ax.get_ylim()[1], "failed", ha="center", va="bottom", fontsize=8, color="0.3")
+        ax.text(fail_x, 0.99, "failed", ha="center", va="top", fontsize=8, color="0.3",
+                transform=ax.get_xaxis_transform())
         ax.set_xlim(min(xmin / 3, fail_x / 10), fail_x * 3)
     if plotted:
         ax.legend(fontsize=8, loc="best")
@@ -109,22 +114,20 @@ def plot_file(path, outdir, error_key, work_key, max_error=10.0, suffix=""):
         data = json.load(f)
     has_sens = any(finite(r.get("sens_final_rel_error")) for r in data["rows"])
     ncols = 2 if has_sens else 1
-    fig, axes = plt.subplots(1, ncols, figsize=(6.4 * ncols, 4.8), squeeze=False)
+    fig, axes = plt.subplots(1, ncols, figsize=(6.4 * ncols, 5.0), squeeze=False, layout="constrained")
     ref = data.get("reference", {})
     if ref.get("kind") == "computed":
         rr = ref["row"]
-        refdesc = f"reference {rr.get('method', 'bdf-exact')} rtol {rr['rtol']:.0e}"
+        refdesc = f"a {rr.get('method', 'bdf-exact')} reference at rtol {rr['rtol']:.0e}"
     else:
-        refdesc = f"reference {ref.get('file', '?')}"
-    title = (f"{os.path.basename(data['study'])} ({data['scene']}): t = {data['t0']:g}..{data['t_end']:g}, "
-             f"{data['outputs']} outputs, "
-             f"atol = {data['atol_ratio']:g} rtol\n{refdesc}"
-             + ("; " + " ".join(data["set"]).replace("solver.constraints.", "") if data.get("set") else ""))
-    panel(axes[0][0], data, error_key, work_key, title, max_error)
+        refdesc = f"the reference {ref.get('file', '?')}"
+    title = (f"{os.path.basename(data['study'])} ({data['scene']}):\nt = {data['t0']:g}..{data['t_end']:g}, "
+             f"{data['outputs']} outputs, atol = {data['atol_ratio']:g} rtol"
+             + ("\n" + " ".join(data["set"]).replace("solver.constraints.", "") if data.get("set") else ""))
+    panel(axes[0][0], data, error_key, work_key, title, max_error, refdesc)
     if has_sens:
         panel(axes[0][1], data, "sens_final_rel_error", work_key,
-              "sensitivities to " + ", ".join(data.get("sensitivity_names", [])), max_error)
-    fig.tight_layout()
+              "sensitivities to " + ", ".join(data.get("sensitivity_names", [])), max_error, refdesc)
     name = os.path.splitext(os.path.basename(path))[0] + suffix + ".png"
     out = os.path.join(outdir, name)
     fig.savefig(out, dpi=110)

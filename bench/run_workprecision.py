@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import json
+import shlex
 import subprocess
 import sys
 from pathlib import Path
@@ -95,8 +97,14 @@ def main(argv=None):
         study, args = PROBLEMS[name]
         cmd = [*harness, str(study), *args, "--repeat", str(a.repeat), "--json"]
         print(f"== {name}: {' '.join(cmd)}", file=sys.stderr, flush=True)
-        with open(out / f"{name}.json", "w") as f:
-            subprocess.run(cmd, stdout=f, check=True, cwd=c.ROOT)
+        load_start = c.loadavg()
+        res = json.loads(subprocess.run(cmd, stdout=subprocess.PIPE, check=True, cwd=c.ROOT, text=True).stdout)
+        # What made this file: the harness command (from the repository root) and this driver's.
+        res["harness_command"] = " ".join(shlex.quote(str(x)) for x in [Path(harness[0]).name, *harness[1:],
+                                                                        str(study), *args, "--repeat", str(a.repeat),
+                                                                        "--json"])
+        res.update(c.provenance(load_start))
+        (out / f"{name}.json").write_text(json.dumps(res, indent=1))
         plot([str(out / f"{name}.json"), "-o", str(out)])
     for names, args in VIEWS:
         for name in names:

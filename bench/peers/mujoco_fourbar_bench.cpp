@@ -20,7 +20,7 @@
 //       times mj_forward at the consistent initial state (positions, velocities, mass matrix and
 //       its factorisation, bias forces, the constraint Jacobian and the constraint solve for
 //       qacc), median over batches → JSON with qpos, qvel, qacc, efc_force of the connect rows.
-//   mujoco_fourbar_bench --integrate rk4|euler --dt DT [--repeat R]
+//   mujoco_fourbar_bench --integrate rk4|euler|implicit --dt DT [--repeat R]
 //       fixed-step mj_step (RK4 or semi-implicit Euler) from the initial state to t = 10: there is
 //       no error control; median wall time of R runs → JSON with y(10) and the loop residual.
 #include <mujoco/mujoco.h>
@@ -189,14 +189,17 @@ int main(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: %s [--repeat R] [--batch-seconds B] [--dt DT]\n"
-                   "       %s --integrate rk4|euler --dt DT [--repeat R]\n",
+                   "       %s --integrate rk4|euler|implicit --dt DT [--repeat R]\n",
                    argv[0], argv[0]);
       return 2;
     }
   }
   if (repeat < 1 || !(dt > 0)) { std::fprintf(stderr, "--repeat must be >= 1 and --dt > 0\n"); return 2; }
-  const char* integrator = which.empty() || which == "rk4" ? "RK4" : which == "euler" ? "Euler" : nullptr;
-  if (!integrator) { std::fprintf(stderr, "unknown integrator %s (rk4, euler)\n", which.c_str()); return 2; }
+  const char* integrator = which.empty() || which == "rk4" ? "RK4"
+                           : which == "euler"               ? "Euler"
+                           : which == "implicit"            ? "implicit"
+                                                            : nullptr;
+  if (!integrator) { std::fprintf(stderr, "unknown integrator %s (rk4, euler, implicit)\n", which.c_str()); return 2; }
   mjModel* m = load(fourbar_mjcf(integrator, dt));
   if (!m) return 1;
   mjData* d = mj_makeData(m);

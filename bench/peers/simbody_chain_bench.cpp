@@ -8,10 +8,11 @@
 //       from Position on, so each evaluation does kinematics, articulated-body inertias and the
 //       O(N) forward dynamics) at the seeded random state of `kanesens bench rhs` (q, u uniform
 //       in [-1, 1] from std::mt19937(seed)), median over batches → JSON with q, u, udot.
-//   simbody_chain_bench N --integrate rkm|cpodes|cpodes-adams --accuracy A [--repeat R] [--q0 Q]
+//   simbody_chain_bench N --integrate NAME --accuracy A [--repeat R] [--q0 Q]
 //       integrates t in [0, 10] from q = (Q, 0, ...), u = 0 (scripts/gen_chain.py's initial
-//       state, Q = 0.5) with RungeKuttaMersonIntegrator or CPodesIntegrator (BDF/Newton or
-//       Adams/functional) at accuracy A; median wall time of R integrations → JSON with y(10).
+//       state, Q = 0.5) with the Simbody integrator NAME (simbody_integrators.hpp: RK-Merson,
+//       RK-Feldberg, RK3, Verlet, CPodes BDF or Adams) at accuracy A; median wall time of R
+//       integrations → JSON with y(10).
 #include <Simbody.h>
 
 #include <algorithm>
@@ -25,6 +26,7 @@
 #include <vector>
 
 #include "batch_timing.hpp"
+#include "simbody_integrators.hpp"
 
 namespace {
 
@@ -105,12 +107,11 @@ int integrate(int n, const std::string& which, double accuracy, int repeat, doub
     s.updQ() = 0;
     s.updQ()[0] = q0;
     s.updU() = 0;
-    std::unique_ptr<SimTK::Integrator> integ;
-    if (which == "rkm") integ = std::make_unique<SimTK::RungeKuttaMersonIntegrator>(c.system);
-    else if (which == "cpodes") integ = std::make_unique<SimTK::CPodesIntegrator>(c.system, SimTK::CPodes::BDF, SimTK::CPodes::Newton);
-    else if (which == "cpodes-adams")
-      integ = std::make_unique<SimTK::CPodesIntegrator>(c.system, SimTK::CPodes::Adams, SimTK::CPodes::Functional);
-    else { std::fprintf(stderr, "unknown integrator %s (rkm, cpodes, cpodes-adams)\n", which.c_str()); return 2; }
+    std::unique_ptr<SimTK::Integrator> integ = simbody_peer::make_integrator(c.system, which);
+    if (!integ) {
+      std::fprintf(stderr, "unknown integrator %s (%s)\n", which.c_str(), simbody_peer::integrator_names);
+      return 2;
+    }
     integ->setAccuracy(accuracy);
     integ->setFinalTime(t_end);
     integ->initialize(s);
@@ -150,7 +151,7 @@ int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: %s N [--repeat R] [--seed S] [--batch-seconds B] [--yy YY]\n"
-                 "       %s N --integrate rkm|cpodes|cpodes-adams --accuracy A [--repeat R] [--q0 Q] [--yy YY]\n",
+                 "       %s N --integrate NAME --accuracy A [--repeat R] [--q0 Q] [--yy YY]\n",
                  argv[0], argv[0]);
     return 2;
   }

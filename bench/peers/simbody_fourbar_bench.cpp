@@ -16,9 +16,9 @@
 //       Position on) at the consistent initial state: kinematics, articulated-body forward
 //       dynamics, and the constraint multipliers (Simbody solves for them in the same realize),
 //       median over batches → JSON with q, u, udot, multipliers and the force on the coupler end.
-//   simbody_fourbar_bench --integrate rkm|cpodes --accuracy A [--repeat R]
-//       integrates t in [0, 10] from the initial state with RungeKuttaMersonIntegrator or
-//       CPodesIntegrator (BDF/Newton) at setAccuracy(A) and setConstraintTolerance(A); median wall
+//   simbody_fourbar_bench --integrate NAME --accuracy A [--repeat R]
+//       integrates t in [0, 10] from the initial state with the Simbody integrator NAME
+//       (simbody_integrators.hpp) at setAccuracy(A) and setConstraintTolerance(A); median wall
 //       time of R integrations → JSON with y(10), steps, realizations, projections and the final
 //       constraint residuals.
 #include <Simbody.h>
@@ -35,6 +35,7 @@
 
 #include "batch_timing.hpp"
 #include "four_bar_state.hpp"
+#include "simbody_integrators.hpp"
 
 namespace {
 
@@ -143,10 +144,11 @@ int integrate(const std::string& which, double accuracy, int repeat) {
   double constraint_tolerance = 0;
   for (int r = 0; r < repeat; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
-    std::unique_ptr<SimTK::Integrator> integ;
-    if (which == "rkm") integ = std::make_unique<SimTK::RungeKuttaMersonIntegrator>(fb.system);
-    else if (which == "cpodes") integ = std::make_unique<SimTK::CPodesIntegrator>(fb.system, SimTK::CPodes::BDF, SimTK::CPodes::Newton);
-    else { std::fprintf(stderr, "unknown integrator %s (rkm, cpodes)\n", which.c_str()); return 2; }
+    std::unique_ptr<SimTK::Integrator> integ = simbody_peer::make_integrator(fb.system, which);
+    if (!integ) {
+      std::fprintf(stderr, "unknown integrator %s (%s)\n", which.c_str(), simbody_peer::integrator_names);
+      return 2;
+    }
     integ->setAccuracy(accuracy);
     // Simbody projects q and u back onto the constraint manifold after every step whenever the
     // residual exceeds this tolerance; tying it to the accuracy keeps the drift at the level of
@@ -204,7 +206,7 @@ int main(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: %s [--repeat R] [--batch-seconds B]\n"
-                   "       %s --integrate rkm|cpodes --accuracy A [--repeat R]\n",
+                   "       %s --integrate NAME --accuracy A [--repeat R]\n",
                    argv[0], argv[0]);
       return 2;
     }

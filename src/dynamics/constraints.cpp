@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "math/dual.hpp"
+#include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
 #include "math/cholesky.hpp"
 #include "dynamics/equations.hpp"
@@ -382,6 +383,7 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
   template bool solve_constrained_accelerations<S>(const Model&, Workspace<S>&);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::Dual2)
 KANESENS_INSTANTIATE(math::MultiDual<4>)
 KANESENS_INSTANTIATE(math::MultiDual<8>)
 KANESENS_INSTANTIATE(math::MultiDual<12>)

@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "math/dual.hpp"
+#include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
 #include "math/cholesky.hpp"
 #include "dynamics/equations.hpp"
@@ -227,6 +228,7 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
   template S potential_energy<S>(const Model&, const Workspace<S>&, const S*);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::Dual2)
 KANESENS_INSTANTIATE(math::MultiDual<4>)
 KANESENS_INSTANTIATE(math::MultiDual<8>)
 KANESENS_INSTANTIATE(math::MultiDual<12>)

@@ -1,5 +1,6 @@
 // Position and velocity stages of Kane's equations (see dynamics/equations.hpp).
 #include "math/dual.hpp"
+#include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
 #include "dynamics/equations.hpp"
 #include "dynamics/planar_stages.hpp"
@@ -171,6 +172,7 @@ void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q,
   template void compute_kinematic_derivatives<S>(const Model&, Workspace<S>&, const S*, const S*);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::Dual2)
 KANESENS_INSTANTIATE(math::MultiDual<4>)
 KANESENS_INSTANTIATE(math::MultiDual<8>)
 KANESENS_INSTANTIATE(math::MultiDual<12>)

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "math/dual.hpp"
+#include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
 #include "dynamics/force_elements.hpp"
 #include "dynamics/planar_stages.hpp"
@@ -175,6 +176,7 @@ void compute_forcing_planar(const Model& m, Workspace<S>& ws) {
   template void compute_forcing_planar<S>(const Model&, Workspace<S>&);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::Dual2)
 KANESENS_INSTANTIATE(math::MultiDual<4>)
 KANESENS_INSTANTIATE(math::MultiDual<8>)
 KANESENS_INSTANTIATE(math::MultiDual<12>)

@@ -3,6 +3,7 @@
 #include <type_traits>
 
 #include "math/dual.hpp"
+#include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
 #include "model/parameters.hpp"
 
@@ -136,6 +137,8 @@ template struct Workspace<double>;
 template struct Workspace<Dual>;
 template void set_parameters<double>(const Model&, Workspace<double>&, const double*);
 template void set_parameters<Dual>(const Model&, Workspace<Dual>&, const Dual*);
+template struct Workspace<math::Dual2>;
+template void set_parameters<math::Dual2>(const Model&, Workspace<math::Dual2>&, const math::Dual2*);
 template struct Workspace<math::MultiDual<4>>;
 template void set_parameters<math::MultiDual<4>>(const Model&, Workspace<math::MultiDual<4>>&, const math::MultiDual<4>*);
 template struct Workspace<math::MultiDual<8>>;

@@ -166,6 +166,7 @@ RunFile::RunFile(std::string path, File file, const RunLayout& l)
       nsensitivity_(has_sensitivities(l) ? l.sensitivity_names.size() : 0),
       noutput_sensitivity_(has_output_sensitivities(l) ? l.sensitivity_names.size() : 0),
       nbody_(has_poses(l) ? l.body_names.size() : 0) {
+  nevent_occurrences_ = l.event_occurrences;
   check(H5Pset_dxpl_mpio(independent_.get(), H5FD_MPIO_INDEPENDENT), "H5Pset_dxpl_mpio");
   auto open = [&](const std::string& p) {  // collective, like every H5Dopen under MPI-IO
     return Dataset(H5Dopen2(file_.get(), p.c_str(), H5P_DEFAULT), "H5Dopen2(" + p + ")");
@@ -184,6 +185,12 @@ RunFile::RunFile(std::string path, File file, const RunLayout& l)
   }
   if (has_poses(l)) poses_ = open(kPosesPath);
   for (const auto& name : l.stat_names) stats_.push_back(open(stat_path(name)));
+  stopped_at_ = open(kStoppedAtPath);
+  for (const auto& name : l.event_names) {
+    event_times_.push_back(open(event_path(name, "time")));
+    event_counts_.push_back(open(event_path(name, "count")));
+    if (has_output_sensitivities(l)) event_time_sensitivities_.push_back(open(event_path(name, "time_sensitivities")));
+  }
   message_ = open(kMessagePath);
   status_ = open(kStatusPath);
 }
@@ -225,6 +232,11 @@ void RunFile::write_sample(const SampleRow& row) {
               "scalar output sensitivities", i);
   expect_size(bool(poses_), row.poses.size(), ntime_ * nbody_ * 7, "poses", i);
   expect_size(true, row.stats.size(), stats_.size(), "stats", i);
+  const std::size_t W = nevent_occurrences_;
+  expect_size(true, row.event_times.size(), event_times_.size() * W, "event times", i);
+  expect_size(true, row.event_counts.size(), event_counts_.size(), "event counts", i);
+  expect_size(true, row.event_time_sensitivities.size(), event_time_sensitivities_.size() * W * noutput_sensitivity_,
+              "event time sensitivities", i);
 
   const hid_t f64 = H5T_NATIVE_DOUBLE;
   if (parameters_) write_row(parameters_, "/parameters", f64, row.parameters.data(), i);
@@ -249,6 +261,14 @@ void RunFile::write_sample(const SampleRow& row) {
   for (std::size_t k = 0; k < stats_.size(); ++k) {
     write_row(stats_[k], "/solver_stats", f64, row.stats.data() + k, i);
   }
+  write_row(stopped_at_, kStoppedAtPath, f64, &row.stopped_at, i);
+  for (std::size_t k = 0; k < event_times_.size(); ++k) {
+    write_row(event_times_[k], "/events", f64, row.event_times.data() + k * W, i);
+    write_row(event_counts_[k], "/events", f64, row.event_counts.data() + k, i);
+  }
+  for (std::size_t k = 0; k < event_time_sensitivities_.size(); ++k)
+    write_row(event_time_sensitivities_[k], "/events", f64,
+              row.event_time_sensitivities.data() + k * W * noutput_sensitivity_, i);
   std::vector<char> message(message_size, '\0');
   const std::string fitted = fit_utf8(row.message, message_size);
   std::memcpy(message.data(), fitted.data(), fitted.size());
@@ -276,6 +296,11 @@ void SampleBlock::append(const SampleRow& row) {
                                      row.scalar_output_sensitivities.end());
   poses.insert(poses.end(), row.poses.begin(), row.poses.end());
   stats.insert(stats.end(), row.stats.begin(), row.stats.end());
+  stopped_at.push_back(row.stopped_at);
+  event_times.insert(event_times.end(), row.event_times.begin(), row.event_times.end());
+  event_time_sensitivities.insert(event_time_sensitivities.end(), row.event_time_sensitivities.begin(),
+                                  row.event_time_sensitivities.end());
+  event_counts.insert(event_counts.end(), row.event_counts.begin(), row.event_counts.end());
 }
 
 void RunFile::write_samples(const SampleBlock& b) {
@@ -299,6 +324,12 @@ void RunFile::write_samples(const SampleBlock& b) {
               un * scalar_output_sensitivities_.size() * noutput_sensitivity_, "scalar output sensitivities", first);
   expect_size(bool(poses_), b.poses.size(), un * ntime_ * nbody_ * 7, "poses", first);
   expect_size(true, b.stats.size(), un * stats_.size(), "stats", first);
+  expect_size(true, b.stopped_at.size(), un, "stopped_at", first);
+  const std::size_t W = nevent_occurrences_;
+  expect_size(true, b.event_times.size(), un * event_times_.size() * W, "event times", first);
+  expect_size(true, b.event_counts.size(), un * event_counts_.size(), "event counts", first);
+  expect_size(true, b.event_time_sensitivities.size(), un * event_time_sensitivities_.size() * W * noutput_sensitivity_,
+              "event time sensitivities", first);
   const hid_t f64 = H5T_NATIVE_DOUBLE;
   if (parameters_) write_rows(parameters_, "/parameters", f64, b.parameters.data(), first, n);
   write_rows(initial_state_, "/initial_state", f64, b.initial_state.data(), first, n);
@@ -329,6 +360,10 @@ void RunFile::write_samples(const SampleBlock& b) {
     for (std::size_t s = 0; s < un; ++s) column[s] = b.stats[s * stats_.size() + k];
     write_rows(stats_[k], "/solver_stats", f64, column.data(), first, n);
   }
+  write_rows(stopped_at_, kStoppedAtPath, f64, b.stopped_at.data(), first, n);
+  write_columns(event_times_, b.event_times, W, "/events");
+  write_columns(event_counts_, b.event_counts, 1, "/events");
+  write_columns(event_time_sensitivities_, b.event_time_sensitivities, W * noutput_sensitivity_, "/events");
   std::vector<char> messages(un * message_size, '\0');
   for (std::size_t s = 0; s < un; ++s) {
     const std::string fitted = fit_utf8(b.message[s], message_size);
@@ -378,6 +413,10 @@ void RunFile::abandon() noexcept {
   for (auto& d : scalar_output_sensitivities_) d.abandon();
   poses_.abandon();
   for (auto& d : stats_) d.abandon();
+  stopped_at_.abandon();
+  for (auto& d : event_times_) d.abandon();
+  for (auto& d : event_counts_) d.abandon();
+  for (auto& d : event_time_sensitivities_) d.abandon();
   message_.abandon();
   status_.abandon();
   independent_.abandon();
@@ -402,6 +441,10 @@ void RunFile::close() {
   scalar_output_sensitivities_.clear();
   poses_.reset();
   stats_.clear();
+  stopped_at_.reset();
+  event_times_.clear();
+  event_counts_.clear();
+  event_time_sensitivities_.clear();
   message_.reset();
   status_.reset();
   independent_.reset();

@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <span>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -51,6 +52,10 @@ struct RunLayout {
   std::vector<std::string> output_sensitivity_names, scalar_output_sensitivity_names;
   std::vector<std::string> body_names;         // [nbody], for /poses
   std::vector<std::string> stat_names;         // e.g. "steps", "rhs_evals", "wall_seconds"
+  // The study's events, /events/<name>/time (sample, occurrence), count (sample) and, with
+  // output sensitivities, time_sensitivities (sample, occurrence, sensitivity).
+  std::vector<std::string> event_names;
+  std::size_t event_occurrences = 0;           // [W], the occurrence dimension
   std::int64_t nsamples = 0;
   bool record_states = true, record_sensitivities = false, record_multipliers = false;
   bool record_poses = false;                   // /poses (sample, time, body, pose)
@@ -77,6 +82,10 @@ struct SampleRow {
   std::span<const double> output_sensitivities;         // [noutput_sens × T × S], [output][time][sens]
   std::span<const double> scalar_output_sensitivities;  // [nscalar_sens × S]
   std::span<const double> poses;          // [T × nbody × 7], [time][body][pose]
+  double stopped_at = std::numeric_limits<double>::quiet_NaN();  // an event's stop time, NaN if none
+  std::span<const double> event_times;              // [nevent × W], [event][occurrence]
+  std::span<const double> event_time_sensitivities;  // [nevent × W × S]
+  std::span<const double> event_counts;             // [nevent]
 };
 
 // Consecutive samples first .. first+count−1, flat in sample order (each entry as in SampleRow,
@@ -87,7 +96,12 @@ struct SampleBlock {
   std::vector<std::string> message;
   std::vector<double> parameters, initial_state, states, multipliers, sensitivities, outputs, stats;
   std::vector<double> scalar_outputs, output_sensitivities, scalar_output_sensitivities, poses;
+  std::vector<double> stopped_at, event_times, event_time_sensitivities, event_counts;
   void clear() {
+    stopped_at.clear();
+    event_times.clear();
+    event_time_sensitivities.clear();
+    event_counts.clear();
     scalar_outputs.clear();
     output_sensitivities.clear();
     scalar_output_sensitivities.clear();
@@ -160,6 +174,9 @@ class RunFile {
   std::size_t ntime_ = 0, nstate_ = 0, nparameter_ = 0, nconstraint_ = 0, nsensitivity_ = 0;
   std::size_t noutput_sensitivity_ = 0, nbody_ = 0;  // the sensitivity dimension of /output_sensitivities
   Dataset parameters_, initial_state_, states_, multipliers_, sensitivities_, poses_;
+  Dataset stopped_at_;
+  std::vector<Dataset> event_times_, event_time_sensitivities_, event_counts_;
+  std::size_t nevent_occurrences_ = 0;
   std::vector<Dataset> outputs_, stats_, scalar_outputs_, output_sensitivities_, scalar_output_sensitivities_;
   Dataset message_, status_;
 };

@@ -67,6 +67,13 @@ std::vector<Variable> float_variables(const RunLayout& l) {
   }
   if (has_poses(l)) vars.push_back({kPosesPath, {"sample", "time", "body", "pose"}});
   for (const auto& name : l.stat_names) vars.push_back({stat_path(name), {"sample"}});
+  vars.push_back({kStoppedAtPath, {"sample"}});
+  for (const auto& name : l.event_names) {
+    vars.push_back({event_path(name, "time"), {"sample", "occurrence"}});
+    vars.push_back({event_path(name, "count"), {"sample"}});
+    if (has_output_sensitivities(l))
+      vars.push_back({event_path(name, "time_sensitivities"), {"sample", "occurrence", "sensitivity"}});
+  }
   return vars;
 }
 
@@ -79,6 +86,7 @@ hsize_t dimension_size(const RunLayout& l, const std::string& dim) {
   if (dim == "constraint") return l.constraint_names.size();
   if (dim == "body") return l.body_names.size();
   if (dim == "pose") return pose_components().size();
+  if (dim == "occurrence") return l.event_occurrences;
   return all_output_names(l).size();  // "output"
 }
 
@@ -341,6 +349,9 @@ void validate_layout(const RunLayout& l) {
   subset(l.output_sensitivity_names, l.output_names);
   subset(l.scalar_output_sensitivity_names, l.scalar_output_names);
   check_names(l.stat_names, "solver statistic", true);
+  check_names(l.event_names, "event", true);
+  if (!l.event_names.empty() && l.event_occurrences == 0)
+    throw std::invalid_argument("run file: events with no occurrence dimension");
   std::vector<std::string> varied;
   for (const auto& d : l.distributions) {
     varied.push_back(d.name);
@@ -370,6 +381,12 @@ void write_schema(hid_t file, const RunLayout& l, int rank, std::size_t message_
     const std::string alias = "/" + dim.name + "_name";
     attach(create_strings(file, alias, dim.labels, rank), alias, {dim.name}, scales);
   }
+  if (!l.event_names.empty()) {  // occurrence k = 1, 2, ... (1-based, as `occurrence:` in the study)
+    std::vector<std::int64_t> k(l.event_occurrences);
+    for (std::size_t i = 0; i < k.size(); ++i) k[i] = static_cast<std::int64_t>(i + 1);
+    scales["occurrence"] = create_dataset(file, "/occurrence", H5T_STD_I64LE, {k.size()}, nullptr);
+    write_values(scales["occurrence"], "/occurrence", H5T_NATIVE_INT64, k.data(), rank);
+  }
   for (const auto& [name, scale] : scales) set_scale(scale, name);
 
   // Per-sample data, filled so that an unwritten row reads as "not run".
@@ -384,6 +401,12 @@ void write_schema(hid_t file, const RunLayout& l, int rank, std::size_t message_
   if (!l.stat_names.empty()) {
     Group(H5Gcreate2(file, "/solver_stats", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
           "H5Gcreate2(/solver_stats)");
+  }
+  if (!l.event_names.empty()) {
+    Group(H5Gcreate2(file, "/events", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "H5Gcreate2(/events)");
+    for (const auto& name : l.event_names)
+      Group(H5Gcreate2(file, ("/events/" + name).c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+            "H5Gcreate2(/events/" + name + ")");
   }
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const auto& var : float_variables(l)) {

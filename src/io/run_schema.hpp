@@ -69,6 +69,10 @@ inline std::string output_sensitivity_path(const std::string& name) {
   return "/output_sensitivities/" + name;
 }
 inline constexpr const char* kPosesPath = "/poses";
+inline constexpr const char* kStoppedAtPath = "/stopped_at";
+inline std::string event_path(const std::string& name, const char* what) {
+  return "/events/" + name + "/" + what;
+}
 inline std::string stat_path(const std::string& name) {
   return "/solver_stats/" + name;
 }

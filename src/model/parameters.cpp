@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "math/dual.hpp"
+#include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
 #include "math/spatial.hpp"
 
@@ -24,6 +25,7 @@ void evaluate_parameter_values(const Model& m, const S* given, S* parameters, S*
 }
 template void evaluate_parameter_values<double>(const Model&, const double*, double*, double*);
 template void evaluate_parameter_values<Dual>(const Model&, const Dual*, Dual*, Dual*);
+template void evaluate_parameter_values<math::Dual2>(const Model&, const math::Dual2*, math::Dual2*, math::Dual2*);
 template void evaluate_parameter_values<math::MultiDual<4>>(const Model&, const math::MultiDual<4>*,
                                                              math::MultiDual<4>*, math::MultiDual<4>*);
 template void evaluate_parameter_values<math::MultiDual<8>>(const Model&, const math::MultiDual<8>*,

@@ -84,7 +84,9 @@ double estimate_file_bytes(const io::RunLayout& l) {
                         static_cast<double>(l.output_sensitivity_names.size()) * T * So +
                         static_cast<double>(l.scalar_output_sensitivity_names.size()) * So +
                         (l.record_poses ? T * static_cast<double>(l.body_names.size()) * 7 : 0.0) +
-                        static_cast<double>(l.stat_names.size());
+                        static_cast<double>(l.stat_names.size()) + 1.0 +  // + /stopped_at
+                        static_cast<double>(l.event_names.size()) *
+                            (1.0 + static_cast<double>(l.event_occurrences) * (1.0 + So));
   const double labels = l.design_labels ? 3 * 8.0 : 0.0;
   const double per_sample =
       8.0 * values + static_cast<double>(io::RunFile::message_size) + 4.0 + 8.0 + labels;
@@ -104,7 +106,7 @@ double row_bytes(const io::RunLayout& l) {
   const double C = l.record_multipliers ? static_cast<double>(l.constraint_names.size()) : 0.0;
   return 8.0 * (static_cast<double>(l.parameter_names.size()) + n + (l.record_states ? T * n : 0.0) + T * n * S +
                 T * C * (1 + S) + T * (3 + static_cast<double>(l.output_names.size())) +
-                static_cast<double>(l.stat_names.size())) +
+                static_cast<double>(l.stat_names.size()) + 1.0) +
          static_cast<double>(io::RunFile::message_size);
 }
 
@@ -266,6 +268,8 @@ struct Prepared {
         layout.output_sensitivity_names = plan->series_names;
         layout.scalar_output_sensitivity_names = plan->scalar_names;
       }
+      for (int v : plan->event_nodes) layout.event_names.push_back(plan->nodes[static_cast<std::size_t>(v)].name);
+      layout.event_occurrences = static_cast<std::size_t>(plan->event_occurrences);
     }
     for (const auto& b : model.bodies) layout.body_names.push_back(b.name);
     layout.record_poses = flags.poses;
@@ -430,6 +434,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
         t0 = Clock::now();
         int status = 1;
         std::string message;
+        double stopped_at = std::nan("");
         std::fill(values.begin(), values.end(), std::nan(""));
         std::fill(y0.begin(), y0.end(), std::nan(""));
         std::fill(stats.begin(), stats.end(), std::nan(""));
@@ -443,10 +448,10 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
           stats = {static_cast<double>(s.steps), static_cast<double>(s.rhs_evals), static_cast<double>(s.jac_evals),
                    static_cast<double>(s.nonlin_iters), static_cast<double>(s.error_test_fails),
                    static_cast<double>(s.sens_rhs_evals), static_cast<double>(s.repartitions), s.wall_seconds};
-          if (!traj.result.ok()) {
-            status = traj.result.status;
-            message = traj.result.message;
-          }
+          // An ok sample's message says what it should: stopped by an event, an at_event output NaN.
+          message = traj.result.message;
+          stopped_at = traj.result.stopped_at;
+          if (!traj.result.ok()) status = traj.result.status;
         } catch (const InputError& e) {
           status = kStatusInvalidInputs;
           message = e.detail();
@@ -478,6 +483,10 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
         row.poses = traj.poses;
         row.multipliers = traj.multipliers;
         row.stats = stats;
+        row.stopped_at = stopped_at;
+        row.event_times = traj.event_times;
+        row.event_time_sensitivities = traj.event_time_sensitivities;
+        row.event_counts = traj.event_counts;
         if (block.count > 0 && i != block.first + block.count) flush_block();
         block.append(row);
         if (8.0 * static_cast<double>(block.states.size() + block.sensitivities.size() + block.multipliers.size() +

@@ -312,6 +312,22 @@ void KaneProblem::full_sensitivity(double t, const double* y, int i, const doubl
   for (int k = 0; k < model_.nu; ++k) s_full[nq + k] = u[static_cast<std::size_t>(k)].d;
 }
 
+void KaneProblem::full_rate(double t, const double* y, const double* ydot, double* ydot_full) {
+  const int nq = model_.nq, n = size();
+  std::copy(ydot, ydot + nq, ydot_full);
+  if (!embedded_) {
+    std::copy(ydot + nq, ydot + model_.nstate(), ydot_full + nq);
+    return;
+  }
+  // d/dt of the reconstructed speeds along (1, ẏ): the Jacobian's workspace carries no ∂/∂p.
+  for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], ydot[r]);
+  std::vector<Dual> u(static_cast<std::size_t>(model_.nu));
+  if (!dynamics::reconstruct_speeds(model_, workspaces_.jacobian(), *sc_dual_, sets_, Dual(t, 1.0), y_dual_.data(),
+                                    y_dual_.data() + nq, u.data()))
+    throw std::runtime_error(embedding_failure(t, "have lost rank"));
+  for (int k = 0; k < model_.nu; ++k) ydot_full[nq + k] = u[static_cast<std::size_t>(k)].d;
+}
+
 double KaneProblem::energy(double t, const double* y) { return sim::energy(model_, workspaces_.values(), t, y); }
 
 void KaneProblem::multipliers(double t, const double* y, double* lambda) {

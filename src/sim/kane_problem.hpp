@@ -101,6 +101,8 @@ class KaneProblem final : public OdeProblem {
   // sensitivity from the integrator's s_i. Identity copies unless embedded.
   void full_state(double t, const double* y, double* y_full);
   void full_sensitivity(double t, const double* y, int i, const double* s, double* s_full);
+  // The full state's time derivative d[q; u]/dt (nstate) from the integrator's y and ẏ (size()).
+  void full_rate(double t, const double* y, const double* ydot, double* ydot_full);
 
   // Outputs at a full state (sim/outputs.hpp), with the current sample's parameters.
   double energy(double t, const double* y);

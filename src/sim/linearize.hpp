@@ -56,4 +56,17 @@ std::vector<std::string> chart_coordinate_names(const model::Model& model);
 Linearization linearize(const model::Model& model, const std::vector<double>& parameters, double t,
                         const std::vector<double>& y, const LinearizeOptions& options = {});
 
+// A direction in (parameters, state): tangents ṗ (np) and ẏ (nstate).
+struct LinearizeDirection {
+  std::vector<double> parameters, state;
+};
+// The same, and for each direction the derivative of A along it, dA[i] = d/dε A(p + ε ṗ, y + ε ẏ),
+// in the same reduced coordinates — exact: second derivatives of the right-hand side, one dual
+// of dual numbers (math/dual2.hpp) per state direction, the constraint solves differentiated
+// too. The caller keeps y + ε ẏ consistent (ẏ tangent to the constraints) if it wants the
+// derivative along the constraint manifold.
+Linearization linearize(const model::Model& model, const std::vector<double>& parameters, double t,
+                        const std::vector<double>& y, const LinearizeOptions& options,
+                        const std::vector<LinearizeDirection>& directions, std::vector<Eigen::MatrixXd>& dA);
+
 }  // namespace kanesens::sim

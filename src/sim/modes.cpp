@@ -2,6 +2,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
+#include <complex>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
@@ -36,6 +38,29 @@ Modes modes(const Eigen::MatrixXd& A) {
     out.vectors.col(k) = v;
   }
   return out;
+}
+
+Eigen::MatrixXcd eigenvalue_derivatives(const Modes& modes, const std::vector<Eigen::MatrixXd>& dA, bool* repeated) {
+  const Eigen::Index n = modes.values.size(), ns = static_cast<Eigen::Index>(dA.size());
+  Eigen::MatrixXcd d(n, ns);
+  if (repeated) *repeated = false;
+  if (n == 0) return d;
+  std::vector<unsigned char> simple(static_cast<std::size_t>(n), 1);
+  for (Eigen::Index k = 0; k < n; ++k)
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (j != k && std::abs(modes.values[k] - modes.values[j]) <=
+                        kRepeatedEigenvalue * std::max(1.0, std::abs(modes.values[k]))) {
+        simple[static_cast<std::size_t>(k)] = 0;
+        if (repeated) *repeated = true;
+      }
+  // Rows of V⁻¹: left eigenvectors scaled so that wₖᴴ vₖ = 1.
+  const Eigen::MatrixXcd W = modes.vectors.partialPivLu().inverse();
+  for (Eigen::Index i = 0; i < ns; ++i) {
+    const Eigen::MatrixXcd dAV = dA[static_cast<std::size_t>(i)].cast<std::complex<double>>() * modes.vectors;
+    for (Eigen::Index k = 0; k < n; ++k)
+      d(k, i) = simple[static_cast<std::size_t>(k)] ? W.row(k).transpose().cwiseProduct(dAV.col(k)).sum() : std::complex<double>(std::nan(""), std::nan(""));
+  }
+  return d;
 }
 
 }  // namespace kanesens::sim

@@ -85,7 +85,8 @@ bool evaluate_series(const OutputPlan& plan, const OutputProgram& program, const
         out[0] = n.expression.evaluate(in);
         break;
       }
-      case OutputKind::reduction: break;  // not a series
+      case OutputKind::reduction:
+      case OutputKind::eigenvalues: break;  // not a series
     }
   }
   return true;

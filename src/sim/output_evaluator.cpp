@@ -1,5 +1,6 @@
 #include "sim/output_evaluator.hpp"
 
+#include "sim/eigenvalue_outputs.hpp"
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -28,11 +29,21 @@ OutputEvaluator::OutputEvaluator(const OutputPlan& plan, KaneProblem& problem)
       y_full_(static_cast<std::size_t>(model_.nstate())),
       s_full_(static_cast<std::size_t>(ns_), std::vector<double>(static_cast<std::size_t>(model_.nstate()))),
       quadrature_(plan.quadrature_nodes.size(), kNaN),
-      quadrature_tangents_(plan.quadrature_nodes.size() * static_cast<std::size_t>(ns_), kNaN) {}
+      quadrature_tangents_(plan.quadrature_nodes.size() * static_cast<std::size_t>(ns_), kNaN),
+      s_full_ptr_(static_cast<std::size_t>(ns_)),
+      dtau_(static_cast<std::size_t>(ns_)),
+      best_(plan.extremum_nodes.size(), kNaN),
+      occurrence_times_(plan.event_nodes.size() * static_cast<std::size_t>(plan.event_occurrences), kNaN),
+      occurrence_tangents_(occurrence_times_.size() * static_cast<std::size_t>(ns_), kNaN) {
+  for (int i = 0; i < ns_; ++i) s_full_ptr_[static_cast<std::size_t>(i)] = s_full_[static_cast<std::size_t>(i)].data();
+}
 
 void OutputEvaluator::start() {
   std::fill(values_.begin(), values_.end(), kNaN);
   std::fill(tangents_.begin(), tangents_.end(), kNaN);
+  std::fill(best_.begin(), best_.end(), kNaN);
+  std::fill(occurrence_times_.begin(), occurrence_times_.end(), kNaN);
+  std::fill(occurrence_tangents_.begin(), occurrence_tangents_.end(), kNaN);
   for (int v : plan_.event_nodes) {  // NAME.time NaN until it happens, NAME.count 0
     const std::size_t count = static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(v)].slot + 1);
     values_[count] = 0;
@@ -63,6 +74,12 @@ void OutputEvaluator::evaluate_tangent(const OutputProgram& program, int i, doub
   }
 }
 
+void OutputEvaluator::take_initial_eigenvalues() {
+  for (const OutputNode& n : plan_.nodes)
+    if (n.kind == OutputKind::eigenvalues)
+      evaluate_eigenvalues(n, problem_, values_.data() + n.slot, tangents_.data() + static_cast<std::ptrdiff_t>(n.slot) * ns_);
+}
+
 void OutputEvaluator::take_at_values(double t) {
   for (const OutputNode& n : plan_.nodes) {
     if (n.kind != OutputKind::reduction || n.reduce != Reduction::at || n.at != t) continue;
@@ -91,6 +108,12 @@ void OutputEvaluator::finish(bool ok, double span, double* scalars, double* scal
     for (int i = 0; i < ns_; ++i)
       tangents_[static_cast<std::size_t>(n.slot * ns_ + i)] =
           ok ? scale * quadrature_tangents_[j * static_cast<std::size_t>(ns_) + static_cast<std::size_t>(i)] : kNaN;
+  }
+  for (int v : plan_.extremum_nodes) {  // over part of the span only: not the sample's extremum
+    if (ok) continue;
+    const std::size_t slot = static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(v)].slot);
+    values_[slot] = kNaN;
+    for (int i = 0; i < ns_; ++i) tangents_[slot * static_cast<std::size_t>(ns_) + static_cast<std::size_t>(i)] = kNaN;
   }
   if (!plan_.scalar_expressions.empty()) {
     evaluate_scalar_expressions(plan_, problem_.workspaces().values().parameters.data(), values_.data());
@@ -147,71 +170,6 @@ void OutputEvaluator::record(int, double, const double* q, const double* const* 
   for (std::size_t j = 0; j < nq; ++j)
     for (int i = 0; i < ns_; ++i)
       quadrature_tangents_[j * static_cast<std::size_t>(ns_) + static_cast<std::size_t>(i)] = qs ? qs[i][j] : kNaN;
-}
-
-double OutputEvaluator::time_derivative(const OutputProgram& program, int slot, double t, const double* y_full,
-                                        const double* y_full_dot) {
-  // With the tangent workspace of p_0: (g_y·ẏ + g_t + g_p0) − g_p0.
-  auto pass = [&](bool along) {
-    for (int r = 0; r < model_.nstate(); ++r)
-      y_dual_[static_cast<std::size_t>(r)] = Dual(y_full[r], along ? y_full_dot[r] : 0.0);
-    if (!evaluate_series(plan_, program, model_, problem_.workspaces().tangent(0), problem_.dynamics_options(),
-                         Dual(t, along ? 1.0 : 0.0), y_dual_.data(), dual_values_.data(), scratch_dual_))
-      throw std::runtime_error("events: mass matrix is not positive definite at t = " + std::to_string(t));
-    return dual_values_[static_cast<std::size_t>(slot)].d;
-  };
-  const double with = pass(true);
-  return with - pass(false);
-}
-
-int OutputEvaluator::Events::direction(int i) const {
-  return e_.plan_.nodes[static_cast<std::size_t>(e_.plan_.event_nodes[static_cast<std::size_t>(i)])].direction;
-}
-
-void OutputEvaluator::Events::g(double t, const double* y, double* gout) {
-  const OutputPlan& plan = e_.plan_;
-  e_.problem_.full_state(t, y, e_.y_full_.data());
-  e_.evaluate(plan.events, t, e_.y_full_.data(), nullptr);
-  for (std::size_t i = 0; i < plan.event_nodes.size(); ++i) {
-    const OutputNode& n = plan.nodes[static_cast<std::size_t>(plan.event_nodes[i])];
-    gout[i] = e_.values_[static_cast<std::size_t>(plan.nodes[static_cast<std::size_t>(n.of)].slot)];
-  }
-}
-
-bool OutputEvaluator::Events::occurred(int i, double t, const double* y, const double* const* s) {
-  const OutputPlan& plan = e_.plan_;
-  const OutputNode& n = plan.nodes[static_cast<std::size_t>(plan.event_nodes[static_cast<std::size_t>(i)])];
-  const std::size_t time = static_cast<std::size_t>(n.slot), count = time + 1;
-  if (e_.values_[count] >= static_cast<double>(n.max_count)) return false;
-  e_.values_[count] += 1;
-  if (e_.values_[count] > 1) return false;
-  e_.values_[time] = t;
-  const int ns = e_.ns_;
-  if (ns > 0 && s) {
-    const int slot = plan.nodes[static_cast<std::size_t>(n.of)].slot;
-    const std::size_t nstate = static_cast<std::size_t>(e_.problem_.size());
-    const std::size_t nfull = static_cast<std::size_t>(e_.model_.nstate());
-    e_.ydot_.resize(nstate);
-    e_.ydot_full_.resize(nfull);
-    e_.zero_.assign(nstate, 0.0);
-    // ẏ in the full state: the full-state map's linear part applied to the integrator's ẏ.
-    e_.problem_.rhs(t, y, e_.ydot_.data());
-    std::vector<double>& a = e_.s_full_[0];
-    e_.problem_.full_sensitivity(t, y, 0, e_.ydot_.data(), e_.ydot_full_.data());
-    e_.problem_.full_sensitivity(t, y, 0, e_.zero_.data(), a.data());
-    for (std::size_t r = 0; r < nfull; ++r) e_.ydot_full_[r] -= a[r];
-    e_.problem_.full_state(t, y, e_.y_full_.data());
-    e_.evaluate(plan.events, t, e_.y_full_.data(), nullptr);
-    const double dgdt = e_.time_derivative(plan.events, slot, t, e_.y_full_.data(), e_.ydot_full_.data());
-    for (int k = 0; k < ns; ++k) {
-      double* sf = e_.s_full_[static_cast<std::size_t>(k)].data();
-      e_.problem_.full_sensitivity(t, y, k, s[k], sf);
-      e_.evaluate_tangent(plan.events, k, t, e_.y_full_.data(), sf);
-      const double dgdp = e_.tangents_[static_cast<std::size_t>(slot * ns + k)];
-      e_.tangents_[time * static_cast<std::size_t>(ns) + static_cast<std::size_t>(k)] = dgdt != 0 ? -dgdp / dgdt : kNaN;
-    }
-  }
-  return n.stop;
 }
 
 }  // namespace kanesens::sim

@@ -29,7 +29,8 @@ std::vector<std::string> output_component_suffixes(OutputKind kind, const model:
     }
     case OutputKind::energy:
     case OutputKind::expression:
-    case OutputKind::reduction: return {};
+    case OutputKind::reduction:
+    case OutputKind::eigenvalues: return {};
   }
   return {};
 }
@@ -46,7 +47,8 @@ Level kind_level(OutputKind kind, EnergyKind energy) {
     case OutputKind::joint_load: return Level::acceleration;
     case OutputKind::energy: return energy == EnergyKind::potential ? Level::position : Level::velocity;
     case OutputKind::expression:
-    case OutputKind::reduction: return Level::parameters;  // from what they read
+    case OutputKind::reduction:
+    case OutputKind::eigenvalues: return Level::parameters;  // from what they read; eigenvalues: not a series
   }
   return Level::acceleration;
 }
@@ -111,8 +113,11 @@ OutputProgram program_of(const OutputPlan& plan, const std::vector<int>& starts)
 }  // namespace
 
 void finish_output_plan(OutputPlan& plan, const std::vector<int>& user_order) {
-  std::vector<int> record_starts, at_starts, integrand_starts, event_starts;
+  std::vector<int> record_starts, at_starts, integrand_starts, event_starts, extremum_starts, at_event_starts;
   plan.event_nodes.clear();
+  plan.event_occurrences = 0;
+  plan.extremum_nodes.clear();
+  plan.at_event_nodes.clear();
   plan.at_times.clear();
   plan.quadrature_nodes.clear();
   plan.scalar_expressions.clear();
@@ -135,6 +140,13 @@ void finish_output_plan(OutputPlan& plan, const std::vector<int>& user_order) {
       } else if (node.reduce == Reduction::event) {
         event_starts.push_back(node.of);
         plan.event_nodes.push_back(static_cast<int>(v));
+        plan.event_occurrences = std::max(plan.event_occurrences, node.recorded_times);
+      } else if (is_extremum(node.reduce)) {
+        extremum_starts.push_back(node.of);
+        plan.extremum_nodes.push_back(static_cast<int>(v));
+      } else if (node.reduce == Reduction::at_event) {
+        at_event_starts.push_back(node.of);
+        plan.at_event_nodes.push_back(static_cast<int>(v));
       } else {
         integrand_starts.push_back(node.of);
         node.quadrature = static_cast<int>(plan.quadrature_nodes.size());
@@ -149,6 +161,8 @@ void finish_output_plan(OutputPlan& plan, const std::vector<int>& user_order) {
   plan.at = program_of(plan, at_starts);
   plan.integrands = program_of(plan, integrand_starts);
   plan.events = program_of(plan, event_starts);
+  plan.extrema = program_of(plan, extremum_starts);
+  plan.at_event = program_of(plan, at_event_starts);
   plan.series_slots.clear();
   plan.scalar_slots.clear();
   plan.series_names.clear();

@@ -23,12 +23,19 @@ enum class OutputKind : unsigned char {
   position, velocity, acceleration, orientation, angular_velocity,  // of a body (point)
   constraint_force, joint_load, force_element, energy,
   expression,  // of t, states, λ, parameters and other outputs
-  reduction    // one number per sample from a series: `of:` with `at:` or `reduce:`
+  reduction,   // one number per sample from a series: `of:` with `at:` or `reduce:`
+  eigenvalues  // one number per sample each: the linearized system's eigenvalues at the initial state
 };
 enum class EnergyKind : unsigned char { kinetic, potential, total };
 // event: the first time `of` crosses zero in a direction and the number of crossings (an
 // `events:` entry; components NAME.time, NAME.count), located by the integrator.
-enum class Reduction : unsigned char { at, integral, mean, rms, event };
+// max, min, argmax, argmin: the extreme value of `of` over the sample and its time, among the
+// roots of its rate (located by the integrator) and the two ends.
+// at_event: the value of `of` at the k-th occurrence of an event.
+enum class Reduction : unsigned char { at, integral, mean, rms, event, max, min, argmax, argmin, at_event };
+inline bool is_extremum(Reduction r) {
+  return r == Reduction::max || r == Reduction::min || r == Reduction::argmax || r == Reduction::argmin;
+}
 // What evaluating a node needs: parameters only, the position stage (and state expressions),
 // the velocity stage, or the whole right-hand side (u̇ and λ).
 enum class Level : unsigned char { parameters, position, velocity, acceleration };
@@ -62,6 +69,13 @@ struct OutputNode {
   int direction = 0;                             //   event: +1 rising, −1 falling, 0 both
   bool stop = false;                             //   event: its first occurrence ends the sample
   long max_count = 0;                            //   event: occurrences counted at most
+  long recorded_times = 0;                       //   event: occurrence times kept (/events/NAME/time)
+  int event = -1;                                //   at_event: the event node
+  long occurrence = 1;                           //   at_event: which occurrence (1 = the first)
+  // Kind eigenvalues (sim/eigenvalue_outputs.hpp): the reduced coordinates and speeds (fixed
+  // by the nominal sample), and how many eigenvalues are kept (components re0, im0, re1, ...).
+  std::vector<std::string> linear_coordinates, linear_speeds;
+  int eigenvalue_count = 0;
 };
 
 // The series nodes to evaluate for one purpose, dependencies first, and the level they need.
@@ -84,6 +98,11 @@ struct OutputPlan {
   OutputProgram integrands;  // inside the integration: the series integral/mean/rms read
   OutputProgram events;      // inside the integration: the event functions
   std::vector<int> event_nodes;          // the event nodes (Reduction::event), in node order
+  long event_occurrences = 0;            // the most occurrence times an event keeps (0: no events)
+  OutputProgram extrema;                 // at the roots of their rates and the ends: the series extrema read
+  std::vector<int> extremum_nodes;       // the max, min, argmax, argmin nodes, in node order
+  OutputProgram at_event;                // at events: the series at_event reductions read
+  std::vector<int> at_event_nodes;       // the at_event nodes, in node order
   std::vector<double> at_times;          // distinct `at:` times, increasing
   std::vector<int> quadrature_nodes;     // per quadrature component: its reduction node
   std::vector<int> scalar_expressions;   // scalar expression nodes, in evaluation order

@@ -98,6 +98,7 @@ RecordFn recorder(KaneProblem& problem, const RecordFlags& flags, Trajectory& tr
       (*s_ptr)[i] = (*s_full)[i].data();
     }
     const double* const* s = sint ? s_ptr->data() : nullptr;
+    if (outputs && (j == 0 || static_cast<std::size_t>(j) + 1 == schedule->times.size())) outputs->take_end_values(t, y, s);
     if (at) {
       outputs->evaluate(outputs->plan().at, t, y, s);
       outputs->take_at_values(t);
@@ -158,6 +159,11 @@ void resize_trajectory(Trajectory& traj, const KaneProblem& problem, std::size_t
   traj.output_sensitivities.assign(nseries * ntimes * ns, std::nan(""));
   traj.scalar_outputs.assign(nscalar, std::nan(""));
   traj.scalar_output_sensitivities.assign(nscalar * ns, std::nan(""));
+  const std::size_t nevent = flags.outputs ? flags.outputs->event_nodes.size() : 0;
+  const std::size_t W = flags.outputs ? static_cast<std::size_t>(flags.outputs->event_occurrences) : 0;
+  traj.event_times.assign(nevent * W, std::nan(""));
+  traj.event_time_sensitivities.assign(nevent * W * ns, std::nan(""));
+  traj.event_counts.assign(nevent, std::nan(""));
   traj.poses.assign(flags.poses ? ntimes * static_cast<std::size_t>(problem.model().nbody()) * 7 : 0, std::nan(""));
 }
 
@@ -187,10 +193,14 @@ void simulate(KaneProblem& problem, Integrator& integrator, std::span<const doub
   const Schedule schedule = make_schedule(times, plan.at_times);
   OutputEvaluator outputs(plan, problem);
   outputs.start();
+  outputs.take_initial_eigenvalues();
   traj.result = integrator.integrate(problem, schedule.times, recorder(problem, flags, traj, &outputs, &schedule),
                                      outputs.size() > 0 ? &outputs : nullptr, outputs.events());
   outputs.finish(traj.result.ok(), times.back() - times.front(), traj.scalar_outputs.data(),
                  traj.scalar_output_sensitivities.data());
+  outputs.event_records(traj.event_times.data(), traj.event_time_sensitivities.data(), traj.event_counts.data());
+  if (const std::string notes = outputs.notes(); !notes.empty())
+    traj.result.message += (traj.result.message.empty() ? "" : "; ") + notes;
   name_failure_cause(problem, traj);
 }
 

@@ -33,6 +33,10 @@ struct Trajectory {
   std::vector<double> scalar_outputs;               // nscalar
   std::vector<double> scalar_output_sensitivities;  // nscalar × nsens
   std::vector<double> poses;                        // T × nbody × 7: position, quaternion (w, x, y, z)
+  // The study's events, in OutputPlan::event_nodes order, W = OutputPlan::event_occurrences:
+  std::vector<double> event_times;              // nevent × W, NaN-padded past each event's occurrences
+  std::vector<double> event_time_sensitivities;  // nevent × W × nsens
+  std::vector<double> event_counts;             // nevent
   IntegrationResult result;
 };
 

@@ -37,6 +37,7 @@ struct Builder {
   const std::vector<OutputSpec>& specs;
   const Model& m;
   std::span<const double> times;
+  const NominalLinearization& nominal;
   sim::OutputPlan plan;
   std::vector<int> user_node;         // spec → its node
   std::vector<int> spec_of_node;      // node → the spec it comes from (−1: a constraint's λ)
@@ -78,6 +79,33 @@ struct Builder {
     }
   }
 
+  // Kind eigenvalues: the reduced states and the number of eigenvalues, from the nominal sample.
+  void add_eigenvalues(OutputNode& n, const OutputSpec& o) {
+    const std::string key = o.key();
+    if (!nominal) throw InputError(o.where, key, "eigenvalue outputs need the nominal sample's initial state");
+    sim::LinearizeOptions lo;
+    lo.coordinates = o.coordinates;
+    lo.speeds = o.speeds;
+    sim::Linearization lin;
+    try {
+      lin = nominal(lo);
+    } catch (const InputError& e) {
+      const bool speeds = e.key_path() == "--speeds";
+      throw InputError(speeds ? o.speeds_where : o.coordinates_where, key + (speeds ? ".speeds" : ".coordinates"), e.detail());
+    } catch (const std::runtime_error& e) {
+      throw InputError(o.where, key, std::string("cannot linearize at the nominal initial state: ") + e.what());
+    }
+    const long dim = static_cast<long>(lin.A.rows());
+    if (dim == 0) throw InputError(o.where, key, "the linearized system has no states at the initial state (every one is dependent or ignorable)");
+    if (o.count > dim)
+      throw InputError(o.where, key + ".count", "count: " + std::to_string(o.count) + " but the linearized system has " +
+                                                    std::to_string(dim) + " eigenvalues");
+    n.linear_coordinates = lin.coordinates;
+    n.linear_speeds = lin.speeds;
+    n.eigenvalue_count = static_cast<int>(o.count > 0 ? o.count : dim);
+    n.series = false;
+  }
+
   void add_spec(std::size_t si) {
     const OutputSpec& o = specs[si];
     const std::string key = o.key();
@@ -112,6 +140,7 @@ struct Builder {
         break;
       case OutputKind::energy:
       case OutputKind::expression: break;
+      case OutputKind::eigenvalues: add_eigenvalues(n, o); break;
       case OutputKind::reduction: {
         // The series reduced: a hidden expression node just before this one.
         OutputNode of;
@@ -127,6 +156,8 @@ struct Builder {
         n.direction = o.direction;
         n.stop = o.stop;
         n.max_count = o.max_count;
+        n.recorded_times = o.recorded_times;
+        n.occurrence = o.occurrence;
         break;
       }
     }
@@ -134,9 +165,33 @@ struct Builder {
     for (const auto& s : suffixes) n.components.push_back(o.name + "." + s);
     if (suffixes.empty()) n.components = {o.name};
     if (o.event) n.components = {o.name + ".time", o.name + ".count"};
+    if (o.kind == OutputKind::eigenvalues) {
+      n.components.clear();
+      for (int k = 0; k < n.eigenvalue_count; ++k) {
+        n.components.push_back(o.name + ".re" + std::to_string(k));
+        n.components.push_back(o.name + ".im" + std::to_string(k));
+      }
+    }
     check_name(o, n.components);
     user_node.push_back(static_cast<int>(plan.nodes.size()));
     add_node(std::move(n), static_cast<int>(si), o.kind == OutputKind::expression ? key + ".expression" : key);
+  }
+
+  // An at_event output's event, by name (events may be listed after the outputs).
+  void resolve_events() {
+    for (std::size_t si = 0; si < specs.size(); ++si) {
+      const OutputSpec& o = specs[si];
+      if (o.kind != OutputKind::reduction || o.event || o.reduce != sim::Reduction::at_event) continue;
+      std::string known;
+      for (std::size_t sj = 0; sj < specs.size(); ++sj) {
+        if (!specs[sj].event) continue;
+        if (specs[sj].name == o.at_event) plan.nodes[static_cast<std::size_t>(user_node[si])].event = user_node[sj];
+        known += (known.empty() ? "" : ", ") + specs[sj].name;
+      }
+      if (plan.nodes[static_cast<std::size_t>(user_node[si])].event < 0)
+        throw InputError(o.reduce_where, o.key() + ".at_event",
+                         "no event named '" + o.at_event + "'" + (known.empty() ? " (the study has no events:)" : "; events: " + known));
+    }
   }
 
   // The names expressions read: outputs first (they shadow a constraint's rows of the same
@@ -210,6 +265,7 @@ struct Builder {
       OutputNode n = std::move(plan.nodes[static_cast<std::size_t>(v)]);
       for (int& d : n.depends) d = position[static_cast<std::size_t>(d)];
       if (n.of >= 0) n.of = position[static_cast<std::size_t>(n.of)];
+      if (n.event >= 0) n.event = position[static_cast<std::size_t>(n.event)];
       nodes.push_back(std::move(n));
       spec_of.push_back(spec_of_node[static_cast<std::size_t>(v)]);
       keys.push_back(node_key[static_cast<std::size_t>(v)]);
@@ -264,11 +320,13 @@ bool is_reserved_output_name(const std::string& name) {
   return name == "energy" || name == "position_residual" || name == "velocity_residual";
 }
 
-sim::OutputPlan build_output_plan(const std::vector<OutputSpec>& specs, const Model& m, std::span<const double> times) {
-  Builder b{specs, m, times, {}, {}, {}, {}, {}, {}};
+sim::OutputPlan build_output_plan(const std::vector<OutputSpec>& specs, const Model& m, std::span<const double> times,
+                                  const NominalLinearization& nominal) {
+  Builder b{specs, m, times, nominal, {}, {}, {}, {}, {}, {}};
   for (int i = 0; i < m.nparam(); ++i) b.parameters.add(m.parameters[static_cast<std::size_t>(i)].name, {VarKind::parameter, i});
   if (specs.empty()) return {};
   for (std::size_t si = 0; si < specs.size(); ++si) b.add_spec(si);
+  b.resolve_events();
   b.fill_names();
   b.compile_expressions();
   b.order();

@@ -24,16 +24,25 @@ struct OutputSpec {
   sim::EnergyKind energy = sim::EnergyKind::total;
   // `expression:` (kind expression) or `of:` (kind reduction).
   model::ExprText expression;
-  // Reductions: `at: T` / `at: end` or `reduce: integral | mean | rms`.
+  // Reductions: `at: T` / `at: end`, `reduce: integral | mean | rms | max | min | argmax |
+  // argmin`, or `at_event: EVENT` with `occurrence: k` (1-based; default 1).
   sim::Reduction reduce = sim::Reduction::at;
   bool at_end = false;
   double at = 0;
   SourceLocation reduce_where;
+  std::string at_event;
+  long occurrence = 1;
   // An `events:` entry (kind reduction, reduce event; `when:` in expression).
   bool event = false;
   int direction = 0;  // rising +1, falling −1, both 0
   bool stop = false;  // action: stop
   long max_count = 0;
+  long recorded_times = 0;  // occurrence times kept: max_count if given, else 100
+  // Kind eigenvalues: `count:` (0: all), `coordinates:` / `speeds:` (empty: chosen as by
+  // `kanesens linearize`), where each was written.
+  long count = 0;
+  std::vector<std::string> coordinates, speeds;
+  SourceLocation coordinates_where, speeds_where;
   // The key its messages name: "outputs.NAME" or "events.NAME".
   std::string key() const { return (event ? "events." : "outputs.") + name; }
 };

@@ -19,7 +19,38 @@ constexpr std::pair<std::string_view, OutputKind> kKinds[] = {
     {"constraint_force", OutputKind::constraint_force},
     {"joint_load", OutputKind::joint_load},
     {"force_element", OutputKind::force_element},
-    {"energy", OutputKind::energy}};
+    {"energy", OutputKind::energy},
+    {"eigenvalues", OutputKind::eigenvalues}};
+
+// A list of names (coordinates:, speeds:).
+std::vector<std::string> read_names(const YAML::Node& n, const std::string& key, const model::YamlReader& r) {
+  if (!n.IsSequence() || n.size() == 0) r.fail(n, key, "expected a list of names, found " + model::describe(n));
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < n.size(); ++i) out.push_back(r.read_string(n[i], key + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
+// type: eigenvalues — at: initial (required), count:, coordinates:, speeds:.
+void parse_eigenvalues(OutputSpec& o, const YAML::Node& n, const std::string& key, const model::YamlReader& r) {
+  r.check_keys(n, key, {"type", "at", "count", "coordinates", "speeds"});
+  const YAML::Node at = r.required(n, "at", key);
+  if (!at.IsScalar() || at.Scalar() != "initial")
+    r.fail(at, key + ".at", "expected initial (the eigenvalues at the consistent initial state), found " + model::describe(at));
+  o.reduce_where = r.location(at);
+  if (const YAML::Node c = n["count"]) {
+    const std::int64_t k = r.read_integer(c, key + ".count");
+    if (k < 1 || k > 100000) r.fail(c, key + ".count", "expected a whole number from 1 (the eigenvalues kept, least stable first)");
+    o.count = static_cast<long>(k);
+  }
+  if (const YAML::Node c = n["coordinates"]) {
+    o.coordinates = read_names(c, key + ".coordinates", r);
+    o.coordinates_where = r.location(c);
+  }
+  if (const YAML::Node s = n["speeds"]) {
+    o.speeds = read_names(s, key + ".speeds", r);
+    o.speeds_where = r.location(s);
+  }
+}
 
 bool is_name(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
@@ -50,6 +81,7 @@ OutputSpec parse_one(const std::string& name, const YAML::Node& key_node, const 
       case OutputKind::joint_load: r.check_keys(n, key, {"type", "joint"}); target = "joint"; break;
       case OutputKind::force_element: r.check_keys(n, key, {"type", "force"}); target = "force"; break;
       case OutputKind::energy: r.check_keys(n, key, {"type", "kind"}); break;
+      case OutputKind::eigenvalues: parse_eigenvalues(o, n, key, r); return o;
       default: break;
     }
     if (target) {
@@ -73,10 +105,12 @@ OutputSpec parse_one(const std::string& name, const YAML::Node& key_node, const 
     return o;
   }
   if (n["of"]) {
-    r.check_keys(n, key, {"of", "at", "reduce"});
+    r.check_keys(n, key, {"of", "at", "reduce", "at_event", "occurrence"});
     o.kind = OutputKind::reduction;
     o.expression = r.read_expr(n["of"], key + ".of");
-    if (n["at"] && n["reduce"]) r.fail(n, key, "give either 'at' (a time or end) or 'reduce' (integral, mean, rms), not both");
+    if ((n["at"] ? 1 : 0) + (n["reduce"] ? 1 : 0) + (n["at_event"] ? 1 : 0) > 1)
+      r.fail(n, key, "give one of 'at' (a time or end), 'reduce' (integral, mean, rms, max, min, argmax, argmin) or 'at_event' (an event's name)");
+    if (n["occurrence"] && !n["at_event"]) r.fail(n["occurrence"], key + ".occurrence", "'occurrence' goes with 'at_event'");
     if (const YAML::Node at = n["at"]) {
       o.reduce = sim::Reduction::at;
       o.reduce_where = r.location(at);
@@ -95,9 +129,21 @@ OutputSpec parse_one(const std::string& name, const YAML::Node& key_node, const 
       o.reduce = r.read_choice<sim::Reduction>(red, key + ".reduce",
                                                 {{"integral", sim::Reduction::integral},
                                                  {"mean", sim::Reduction::mean},
-                                                 {"rms", sim::Reduction::rms}});
+                                                 {"rms", sim::Reduction::rms},
+                                                 {"max", sim::Reduction::max},
+                                                 {"min", sim::Reduction::min},
+                                                 {"argmax", sim::Reduction::argmax},
+                                                 {"argmin", sim::Reduction::argmin}});
+    } else if (const YAML::Node ev = n["at_event"]) {
+      o.reduce_where = r.location(ev);
+      o.reduce = sim::Reduction::at_event;
+      o.at_event = r.read_string(ev, key + ".at_event");
+      if (const YAML::Node k = n["occurrence"]) {
+        o.occurrence = static_cast<long>(r.read_integer(k, key + ".occurrence"));
+        if (o.occurrence < 1) r.fail(k, key + ".occurrence", "expected a whole number >= 1 (1 is the first occurrence), found " + model::describe(k));
+      }
     } else {
-      r.fail(n, key, "'of' needs 'at' (a time or end) or 'reduce' (integral, mean, rms)");
+      r.fail(n, key, "'of' needs 'at' (a time or end), 'reduce' (integral, mean, rms, max, min, argmax, argmin) or 'at_event' (an event's name)");
     }
     return o;
   }
@@ -149,9 +195,13 @@ std::vector<OutputSpec> parse_events(const YAML::Node& node, const model::YamlRe
     if (n["action"])
       o.stop = r.read_choice<bool>(n["action"], key + ".action", {{"record", false}, {"stop", true}});
     o.max_count = 1000000;
+    o.recorded_times = 100;
     if (n["max_count"]) {
       o.max_count = static_cast<long>(r.read_integer(n["max_count"], key + ".max_count"));
       if (o.max_count < 1) r.fail(n["max_count"], key + ".max_count", "expected a whole number >= 1, found " + model::describe(n["max_count"]));
+      if (o.max_count > 100000)
+        r.fail(n["max_count"], key + ".max_count", "at most 100000 (each occurrence's time is kept per sample); leave it out to count without a limit and keep the first 100 times");
+      o.recorded_times = o.max_count;
     }
     out.push_back(std::move(o));
   }

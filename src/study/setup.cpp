@@ -4,6 +4,7 @@
 
 #include "model/build_model.hpp"
 #include "sim/kane_problem.hpp"
+#include "sim/linearize.hpp"
 #include "util/did_you_mean.hpp"
 #include "study/build_outputs.hpp"
 
@@ -72,7 +73,15 @@ StudySetup setup_study(const std::string& path, const std::vector<std::string>& 
   sim::KaneProblem nominal(s.model, s.recorded_sensitivities(), st.constraints, st.output_times.front());
   nominal.set_sample(s.base);
   nominal.validate_initial_state();
-  s.outputs = std::make_shared<const sim::OutputPlan>(build_output_plan(st.outputs, s.model, st.output_times));
+  const double t0 = st.output_times.front();
+  auto nominal_linearization = [&](const sim::LinearizeOptions& options) {
+    std::vector<double> y0(static_cast<std::size_t>(nominal.size())), y(static_cast<std::size_t>(s.model.nstate()));
+    nominal.initial_state(y0.data());
+    nominal.full_state(t0, y0.data(), y.data());
+    return sim::linearize(s.model, nominal.workspaces().parameters(), t0, y, options);
+  };
+  s.outputs = std::make_shared<const sim::OutputPlan>(
+      build_output_plan(st.outputs, s.model, st.output_times, nominal_linearization));
   if (!s.outputs->empty()) s.record.outputs = s.outputs.get();
   return s;
 }

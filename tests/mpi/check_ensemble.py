@@ -64,7 +64,8 @@ def check_xarray(path):
     assert out["energy"].dims == ("sample", "time")
     # The study's outputs: series (sample, time), scalars (sample), and their sensitivities.
     assert out["tip.y"].dims == ("sample", "time") and out["work"].dims == ("sample",)
-    assert np.array_equal(out["tip_y_end"].values, out["tip.y"].isel(time=-1).values)
+    assert np.array_equal(out["tip_y_end"].values, out["tip.y"].isel(time=-1).values, equal_nan=True)
+    assert ds["stopped_at"].dims == ("sample",)
     sens = xr.open_dataset(path, engine="h5netcdf", group="output_sensitivities")
     assert sens["tip.y"].dims == ("sample", "time", "sensitivity"), sens["tip.y"].dims
     assert sens["work"].dims == ("sample", "sensitivity")
@@ -85,6 +86,46 @@ def status(path, ok, fail, notrun):
     print(f"status: {path} ok={counts[0]} failed={counts[1]} not_run={counts[2]}")
 
 
+def events(path):
+    """The study's stopping event `low`: /stopped_at is its time (NaN when it did not stop), the
+    output times after it are NaN in the states and series outputs, the ones before are not, and
+    the message says it stopped; some samples stop and some do not."""
+    with h5py.File(path, "r") as f:
+        stop = f["stopped_at"][()]
+        low = f["outputs/low.time"][()]
+        count = f["outputs/low.count"][()]
+        t = f["time"][()]
+        states = f["states"][()]
+        tip = f["outputs/tip.y"][()]
+        msg = [m.decode() if isinstance(m, bytes) else m for m in f["message"][()]]
+        status = f["status"][()]
+    assert np.all(status == 1), status
+    assert np.array_equal(stop, low, equal_nan=True)
+    stopped = np.isfinite(stop)
+    assert 0 < stopped.sum() < len(stop), stopped
+    assert np.array_equal(count, stopped.astype(float))
+    with h5py.File(path, "r") as f:
+        # /events/<name>: the first occurrence is NAME.time, the count NAME.count, NaN-padded rows.
+        for name in ("low", "cross"):
+            times = f[f"events/{name}/time"][()]
+            n = f[f"events/{name}/count"][()]
+            assert times.shape == (len(stop), f["occurrence"].shape[0])
+            assert np.array_equal(times[:, 0], f[f"outputs/{name}.time"][()], equal_nan=True), name
+            assert np.array_equal(n, f[f"outputs/{name}.count"][()]), name
+            assert np.array_equal(f[f"events/{name}/time_sensitivities"][:, 0, :],
+                                  f[f"output_sensitivities/{name}.time"][()], equal_nan=True), name
+            for i in range(len(stop)):
+                assert np.all(np.isfinite(times[i, :int(n[i])])) and np.all(np.isnan(times[i, int(n[i]):])), (name, i)
+                assert np.all(np.diff(times[i, :int(n[i])]) > 0), (name, i)
+        assert np.array_equal(f["events/low/time"][:, 0], stop, equal_nan=True)
+    for i in range(len(stop)):
+        after = t > stop[i] if stopped[i] else np.zeros(len(t), bool)
+        assert np.all(np.isnan(states[i][after])) and np.all(np.isfinite(states[i][~after])), i
+        assert np.all(np.isnan(tip[i][after])) and np.all(np.isfinite(tip[i][~after])), i
+        assert msg[i].startswith("stopped by an event at t = ") == bool(stopped[i]), (i, msg[i])
+    print(f"events: {path} {int(stopped.sum())} of {len(stop)} samples stopped by an event")
+
+
 def stat_at_least(path, name, least):
     with h5py.File(path, "r") as f:
         v = f["solver_stats/" + name][()]
@@ -103,6 +144,8 @@ if __name__ == "__main__":
     cmd = sys.argv[1]
     if cmd == "same":
         same(sys.argv[2], sys.argv[3])
+    elif cmd == "events":
+        events(sys.argv[2])
     elif cmd == "xarray":
         check_xarray(sys.argv[2])
     elif cmd == "status":

@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -75,7 +76,11 @@ void write_demo_sample(kanesens::io::RunFile& file, const kanesens::io::RunLayou
                      .scalar_outputs = {},
                      .output_sensitivities = {},
                      .scalar_output_sensitivities = {},
-                     .poses = {}});
+                     .poses = {},
+                     .stopped_at = std::nan(""),
+                     .event_times = {},
+                     .event_time_sensitivities = {},
+                     .event_counts = {}});
 }
 
 int run(int argc, char** argv) {

@@ -279,6 +279,7 @@ std::vector<Case> study_cases() {
       {"StudyEventNotOfTime", Kind::study, s + "events:\n  - {name: fall, when: \"L - 1\"}\n", {"StudyEventNotOfTime.yaml:16:", "events.fall.when", "does not change with time"}},
       {"StudyEventTwice", Kind::study, s + "events:\n  - {name: fall, when: hinge.q}\n  - {name: fall, when: hinge.u}\n", {"StudyEventTwice.yaml:17:", "events[1].name", "defined twice"}},
       {"StudyEventMaxCount", Kind::study, s + "events:\n  - {name: fall, when: hinge.q, max_count: 0}\n", {"StudyEventMaxCount.yaml:16:", "events.fall.max_count", ">= 1"}},
+      {"StudyEventMaxCountLarge", Kind::study, s + "events:\n  - {name: fall, when: hinge.q, max_count: 200000}\n", {"StudyEventMaxCountLarge.yaml:16:", "events.fall.max_count", "at most 100000"}},
       {"StudyDop853MaxOrder", Kind::study, s + "solver: {method: dop853, max_order: 5}\n", {"StudyDop853MaxOrder.yaml:15:", "solver.max_order", "dop853"}},
       {"StudyAdamsProjection", Kind::study, s + "solver: {method: adams, constraints: {stabilization: projection}}\n", {"StudyAdamsProjection.yaml:15:", "solver", "projection needs method: bdf or dop853"}},
       {"StudyUniformLowNotBelowHigh", Kind::study, edit(s, "low: 0.5, high: 1.5", "low: 1.5, high: 0.5"), {"StudyUniformLowNotBelowHigh.yaml:13:", "vary.m.high", "expected low < high"}},

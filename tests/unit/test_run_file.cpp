@@ -53,7 +53,7 @@ struct Row {
     for (auto* v : {&p, &x0, &states, &lambda, &sens, &outputs, &stats}) {
       for (std::size_t k = 0; k < v->size(); ++k) (*v)[k] = 100.0 * i + k;
     }
-    return {i, status, status == 1 ? "" : "failed", p, x0, states, lambda, sens, outputs, stats, {}, {}, {}, {}};
+    return {i, status, status == 1 ? "" : "failed", p, x0, states, lambda, sens, outputs, stats, {}, {}, {}, {}, std::nan(""), {}, {}, {}};
   }
 };
 

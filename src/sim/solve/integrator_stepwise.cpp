@@ -50,6 +50,7 @@ void Integrator::Impl::integrate_stepwise(OdeProblem& problem, std::span<const d
         stop_at(result, t);
         break;
       }
+      if (k == times.size()) break;  // a crossing at the final time: nothing left to integrate
       continue;
     }
     if (k == times.size()) break;

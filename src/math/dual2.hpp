@@ -1,0 +1,27 @@
+// Second-order dual numbers: DualT<Dual>, whose value part carries one outer tangent and whose
+// tangent part the inner one. Evaluating the model on Dual2 with the inner tangent along a state
+// direction and the outer along a parameter gives ∂²f/∂x∂p exactly — the parameter derivative of
+// a column of the linearized A (sim/linearize.hpp), which eigenvalue sensitivities need.
+// Only the layers that evaluate on it include this header (the instantiations cost compile time).
+#pragma once
+#include "math/dual.hpp"
+
+namespace kanesens::math {
+using Dual2 = DualT<Dual>;
+}  // namespace kanesens::math
+
+namespace Eigen {
+template <>
+struct NumTraits<kanesens::math::Dual2> : NumTraits<double> {
+  using Real = kanesens::math::Dual2;
+  using NonInteger = kanesens::math::Dual2;
+  using Nested = kanesens::math::Dual2;
+  using Literal = kanesens::math::Dual2;
+  enum { IsComplex = 0, IsInteger = 0, IsSigned = 1, RequireInitialization = 0,
+         ReadCost = 4, AddCost = 4, MulCost = 9 };
+};
+template <typename BinaryOp>
+struct ScalarBinaryOpTraits<kanesens::math::Dual2, double, BinaryOp> { using ReturnType = kanesens::math::Dual2; };
+template <typename BinaryOp>
+struct ScalarBinaryOpTraits<double, kanesens::math::Dual2, BinaryOp> { using ReturnType = kanesens::math::Dual2; };
+}  // namespace Eigen
