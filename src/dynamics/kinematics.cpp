@@ -40,7 +40,14 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
     Vec3<S> d = Vec3<S>::Zero();         // the joint's translation, parent frame
     Vec3<S> first_a2 = Vec3<S>::Zero();  // universal: the second axis carried by the first rotation
     switch (J.type) {
-      case JointType::revolute: rotate(axis_angle<S>(a, qj[0])); break;
+      case JointType::revolute:
+        if (const int i = ws.joint_axis_index[ji]; i >= 0) {
+          using std::cos, std::sin;
+          math::rotate_about_coordinate_axis<S>(P >= 0 ? R_P : ws.identity, i, cos(qj[0]), sin(qj[0]), R_C);
+        } else {
+          rotate(axis_angle<S>(a, qj[0]));
+        }
+        break;
       case JointType::prismatic:
         R_C = R_P;
         d = qj[0] * a;
@@ -84,6 +91,7 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
       else if (J.type == JointType::universal && k == 1) dir.noalias() = R_P * first_a2;
       else if (J.type == JointType::planar && k < 2) dir.noalias() = R_P * (k == 0 ? ws.plane_e1[ji] : ws.plane_e2[ji]);
       else if (J.type == JointType::free && k < 3) dir = R_P.col(k);
+      else if (ws.joint_axis_index[ji] >= 0) dir = R_P.col(ws.joint_axis_index[ji]);
       else dir.noalias() = R_P * a;
       if (sp.rotation) s.template tail<3>().setZero();
       else s.template head<3>().setZero();

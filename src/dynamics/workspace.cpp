@@ -1,5 +1,7 @@
 #include "dynamics/workspace.hpp"
 
+#include <type_traits>
+
 #include "math/dual.hpp"
 #include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
@@ -21,6 +23,7 @@ Workspace<S>::Workspace(const Model& m)
       joint_axis2(m.joints.size(), Vec3<S>::Zero()),
       plane_e1(m.joints.size(), Vec3<S>::Zero()),
       plane_e2(m.joints.size(), Vec3<S>::Zero()),
+      joint_axis_index(m.joints.size(), -1),
       parent_point(m.joints.size()),
       child_point(m.joints.size()),
       joint_lever(m.joints.size()),
@@ -105,6 +108,10 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
     const Joint& J = m.joints[j];
     if (J.axis[0] >= 0) ws.joint_axis[j] = unit_or_zero<S>(vec3(ws, J.axis));
     if (J.axis2[0] >= 0) ws.joint_axis2[j] = unit_or_zero<S>(vec3(ws, J.axis2));
+    ws.joint_axis_index[j] = -1;
+    if constexpr (std::is_same_v<S, double>)  // a Dual axis may carry a parameter's tangent
+      for (int i = 0; i < 3; ++i)
+        if (ws.joint_axis[j] == Vec3<S>::Unit(i)) ws.joint_axis_index[j] = i;
     ws.parent_point[j] = vec3(ws, J.parent_point);
     ws.child_point[j] = vec3(ws, J.child_point);
     ws.reference_point[J.child] = ws.child_point[j];

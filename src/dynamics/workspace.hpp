@@ -52,6 +52,8 @@ struct Workspace {
   std::vector<Vec3<S>> reference_point;  // nb: Q_b in b's frame (its joint's child_point)
   std::vector<SpatialInertia<S>> inertia_local;  // nb: at Q_b, body-frame components
   std::vector<Vec3<S>> joint_axis, joint_axis2, plane_e1, plane_e2;  // nj, unit (0 if degenerate)
+  std::vector<int> joint_axis_index;  // nj: i when joint_axis is exactly e_i (a rotation about it
+                                      //     moves two columns), −1 otherwise and off double
   std::vector<Vec3<S>> parent_point, child_point;                    // nj
   std::vector<Vec3<S>> joint_lever;  // nj: Q_P to the joint's parent point at q = 0, parent frame
                                      //     (root joints: the parent point, world)
