@@ -20,20 +20,7 @@ using namespace kanesens::testing;
 namespace {
 
 std::string pendulum(const std::string& method, const std::string& events, int outputs = 31) {
-  return "kanesens: 1\n"
-         "scene:\n"
-         "  name: pendulum\n"
-         "  gravity: [0, -9.81, 0]\n"
-         "  parameters: {m: 1.0, L: 1.2}\n"
-         "  bodies:\n"
-         "    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}\n"
-         "  joints:\n"
-         "    - {name: pivot, type: revolute, parent: ground, child: rod, axis: [0, 0, 1],\n"
-         "       child_point: [0, \"L/2\", 0], q0: 0.9, u0: 0}\n"
-         "time: {end: 3.0, outputs: " + std::to_string(outputs) + "}\n"
-         "solver: {method: " + method + ", rtol: 1.0e-10, atol: 1.0e-12}\n"
-         "sensitivities: [L, pivot.q0]\n"
-         "events:\n" + events;
+  return pendulum_study_head(method, 3.0, outputs) + "events:\n" + events;
 }
 
 class EventEdges : public ::testing::TestWithParam<std::string> {};

@@ -136,20 +136,7 @@ namespace {
 constexpr double g = 9.81;
 
 std::string pendulum(const std::string& method, const std::string& events, const std::string& outputs) {
-  return "kanesens: 1\n"
-         "scene:\n"
-         "  name: pendulum\n"
-         "  gravity: [0, -9.81, 0]\n"
-         "  parameters: {m: 1.0, L: 1.2}\n"
-         "  bodies:\n"
-         "    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}\n"
-         "  joints:\n"
-         "    - {name: pivot, type: revolute, parent: ground, child: rod, axis: [0, 0, 1],\n"
-         "       child_point: [0, \"L/2\", 0], q0: 0.9, u0: 0}\n"
-         "time: {end: 3.0, outputs: 31}\n"
-         "solver: {method: " + method + ", rtol: 1.0e-10, atol: 1.0e-12}\n"
-         "sensitivities: [L, pivot.q0]\n"
-         "events:\n" + events + "outputs:\n" + outputs;
+  return pendulum_study_head(method) + "events:\n" + events + "outputs:\n" + outputs;
 }
 
 class AtEvent : public ::testing::TestWithParam<std::string> {};

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -65,6 +66,28 @@ struct OutputRun {
   }
   double time(std::size_t k) const { return setup->spec.output_times[k]; }
 };
+
+// The simple pendulum of the event and extrema tests (a uniform rod of length L = 1.2 hinged at
+// its top, released from 0.9 rad; quarter period K(sin(0.45))·√(2L/(3g))) as a study up to its
+// sensitivities to L and pivot.q0; the caller appends events:, outputs:, ...
+inline std::string pendulum_study_head(const std::string& method, double end = 3.0, int outputs = 31) {
+  std::ostringstream end_text;
+  end_text.precision(17);
+  end_text << end;
+  return "kanesens: 1\n"
+         "scene:\n"
+         "  name: pendulum\n"
+         "  gravity: [0, -9.81, 0]\n"
+         "  parameters: {m: 1.0, L: 1.2}\n"
+         "  bodies:\n"
+         "    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}\n"
+         "  joints:\n"
+         "    - {name: pivot, type: revolute, parent: ground, child: rod, axis: [0, 0, 1],\n"
+         "       child_point: [0, \"L/2\", 0], q0: 0.9, u0: 0}\n"
+         "time: {end: " + end_text.str() + ", outputs: " + std::to_string(outputs) + "}\n"
+         "solver: {method: " + method + ", rtol: 1.0e-10, atol: 1.0e-12}\n"
+         "sensitivities: [L, pivot.q0]\n";
+}
 
 // Writes `text` to <tmp>/<file> and runs its nominal sample (with `set` as --set), or sample
 // `inputs` edited by `edit` (for finite differences: one input moved).
