@@ -211,12 +211,9 @@ TEST_P(AtEvent, ValuesAtEventsMatchFiniteDifferences) {
   const std::string file = "at_event_fd_" + GetParam() + ".yaml";
   const OutputRun base = run_output_study(text, file);
   const auto& sens = base.problem->sensitivities();
-  std::vector<double> y0(static_cast<std::size_t>(base.setup->model.nstate()));
-  base.problem->initial_state(y0.data());
   for (std::size_t i = 0; i < sens.size(); ++i) {
     const InputRef ref = sens[i];
-    const double x = ref.kind == InputRef::Kind::parameter ? base.setup->base.parameters[static_cast<std::size_t>(ref.index)]
-                                                          : y0[static_cast<std::size_t>(ref.index)];
+    const double x = base.sensitivity_input(i);
     const double h = 1e-3 * std::max(1.0, std::abs(x));
     for (const char* name : {"x", "peak", "t_peak"}) {
       auto value = [&](double dx) {

@@ -129,8 +129,6 @@ std::map<std::string, Worst> compare(const std::string& text, const std::string&
                                      const std::vector<std::string>& set = {}) {
   const OutputRun base = run_output_study(text, file, set);
   const auto& sens = base.problem->sensitivities();
-  std::vector<double> y0(static_cast<std::size_t>(base.setup->model.nstate()));
-  base.problem->initial_state(y0.data());
   std::map<std::string, Worst> worst;
   auto note = [&](const std::string& name, double err, const std::string& where) {
     const std::string key = name.substr(0, name.find('.'));
@@ -138,8 +136,7 @@ std::map<std::string, Worst> compare(const std::string& text, const std::string&
   };
   for (std::size_t i = 0; i < sens.size(); ++i) {
     const InputRef ref = sens[i];
-    const double x = ref.kind == InputRef::Kind::parameter ? base.setup->base.parameters[static_cast<std::size_t>(ref.index)]
-                                                          : y0[static_cast<std::size_t>(ref.index)];
+    const double x = base.sensitivity_input(i);
     const double h = 1e-3 * std::max(1.0, std::abs(x));
     auto moved = [&](double dx) {
       return run_output_study(text, file, set, [&](const Model&, SampleInputs& in) { in.set(ref, x + dx); });

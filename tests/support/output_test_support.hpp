@@ -65,6 +65,15 @@ struct OutputRun {
     return traj.states[k * n.size() + r];
   }
   double time(std::size_t k) const { return setup->spec.output_times[k]; }
+  // The nominal value of sensitivity input i (a parameter, or a component of the consistent
+  // initial state), the point finite differences move away from.
+  double sensitivity_input(std::size_t i) const {
+    const InputRef ref = problem->sensitivities()[i];
+    if (ref.kind == InputRef::Kind::parameter) return setup->base.parameters[static_cast<std::size_t>(ref.index)];
+    std::vector<double> y0(static_cast<std::size_t>(setup->model.nstate()));
+    problem->initial_state(y0.data());
+    return y0[static_cast<std::size_t>(ref.index)];
+  }
 };
 
 // The simple pendulum of the event and extrema tests (a uniform rod of length L = 1.2 hinged at
