@@ -89,6 +89,8 @@ void print_json(const Model& m, const KaneProblem& problem, const std::vector<do
   j.key("rhs_evals").value(static_cast<long long>(s.rhs_evals));
   j.key("jac_evals").value(static_cast<long long>(s.jac_evals));
   j.key("lin_rhs_evals").value(static_cast<long long>(s.lin_rhs_evals));
+  j.key("jtimes_evals").value(static_cast<long long>(s.jtimes_evals));
+  j.key("lin_iters").value(static_cast<long long>(s.lin_iters));
   j.key("nonlin_iters").value(static_cast<long long>(s.nonlin_iters));
   j.key("nonlin_conv_fails").value(static_cast<long long>(s.nonlin_conv_fails));
   j.key("error_test_fails").value(static_cast<long long>(s.error_test_fails));

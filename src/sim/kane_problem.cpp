@@ -227,6 +227,13 @@ void KaneProblem::jacobian(double t, const double* y, const double*, double* J) 
   });
 }
 
+void KaneProblem::jacobian_times(double t, const double* y, const double*, const double* v, double* Jv) {
+  const int n = size();
+  for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], v[r]);
+  evaluate(workspaces_.jacobian(), Dual(t), y_dual_.data(), ydot_dual_.data());
+  for (int r = 0; r < n; ++r) Jv[r] = ydot_dual_[r].d;
+}
+
 // Tangent i of a block is (s_i on y, e_p on its parameter — set by set_sample), so one pass gives
 // J s_i + ∂f/∂p_i for all the block's sensitivities.
 void KaneProblem::sensitivity_rhs_all(double t, const double* y, const double*, int, const double* const* s,

@@ -59,6 +59,10 @@ class KaneProblem final : public OdeProblem {
   void rhs(double t, const double* y, double* ydot) override;
   bool has_jacobian() const override { return true; }
   void jacobian(double t, const double* y, const double* ydot, double* J) override;
+  // J v from one pass of the right-hand side on Dual with tangent v on y (no parameter tangent):
+  // the same equations, constraint paths and partition as rhs().
+  bool has_jacobian_times() const override { return true; }
+  void jacobian_times(double t, const double* y, const double* ydot, const double* v, double* Jv) override;
   int num_sensitivities() const override { return static_cast<int>(sens_.size()); }
   void initial_sensitivity(int i, double* s0) const override;
   bool has_sensitivity_rhs() const override { return true; }

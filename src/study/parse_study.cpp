@@ -96,7 +96,7 @@ void parse_solver(const YAML::Node& n, const YamlReader& r, sim::SolverOptions& 
   using namespace kanesens::sim;
   const std::string key = "solver";
   r.check_keys(n, key, {"method", "iteration", "rtol", "atol", "max_steps", "max_order", "initial_step", "max_step",
-                        "jacobian", "sensitivity", "constraints"});
+                        "jacobian", "linear_solver", "sensitivity", "constraints"});
   if (n["method"])
     o.method = r.read_choice<Method>(n["method"], key + ".method",
                                      {{"bdf", Method::bdf}, {"adams", Method::adams}, {"dop853", Method::dop853}});
@@ -120,6 +120,10 @@ void parse_solver(const YAML::Node& n, const YamlReader& r, sim::SolverOptions& 
   if (n["jacobian"])
     o.jacobian = r.read_choice<JacobianKind>(n["jacobian"], key + ".jacobian",
                                              {{"exact", JacobianKind::exact}, {"dq", JacobianKind::dq}});
+  if (n["linear_solver"])
+    o.linear_solver = r.read_choice<LinearSolver>(
+        n["linear_solver"], key + ".linear_solver",
+        {{"dense", LinearSolver::dense}, {"krylov", LinearSolver::krylov}, {"auto", LinearSolver::automatic}});
   if (const YAML::Node s = n["sensitivity"]) {
     const std::string k2 = key + ".sensitivity";
     r.check_keys(s, k2, {"method", "error_control", "rhs", "atol"});

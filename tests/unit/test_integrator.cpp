@@ -48,6 +48,13 @@ class Oscillator : public ks::OdeProblem {
     J[1 + 0 * 2] = -k / m;
     J[1 + 1 * 2] = -c / m;
   }
+  bool has_jacobian_times() const override { return true; }
+  void jacobian_times(double, const double*, const double*, const double* v, double* Jv) override {
+    ++jtimes_calls;
+    const double m = p_[2], c = p_[3], k = p_[4];
+    Jv[0] = v[1];
+    Jv[1] = -(k * v[0] + c * v[1]) / m;
+  }
   int num_sensitivities() const override { return with_sens ? 5 : 0; }
   void initial_sensitivity(int i, double* s0) const override {
     s0[0] = i == 0 ? 1 : 0;
@@ -70,6 +77,7 @@ class Oscillator : public ks::OdeProblem {
   const double* parameters() const { return p_; }
   bool with_sens = true;
   long rhs_calls = 0;
+  long jtimes_calls = 0;
 
  private:
   double x0_, v0_;
@@ -206,6 +214,7 @@ TEST(DampedOscillatorClosedForm, SensitivitiesAndEquationOfMotion) {
 struct SensCase {
   ks::SensitivityMethod method;
   ks::SensitivityRhs rhs;
+  ks::LinearSolver linear_solver = ks::LinearSolver::dense;
 };
 
 class OscillatorSensitivities : public ::testing::TestWithParam<SensCase> {};
@@ -225,6 +234,7 @@ TEST_P(OscillatorSensitivities, MatchAnalyticReference) {
   const double tolerance = dq ? 2e-6 : 3e-8;  // measured max: DQ 5.2e-7, exact 7.1e-9
   o.sensitivity_method = GetParam().method;
   o.sens_rhs = GetParam().rhs;
+  o.linear_solver = GetParam().linear_solver;
   Oscillator osc;
   const Trajectory tr = run(o, osc, reference_times(ref));
   ASSERT_TRUE(tr.result.ok()) << tr.result.message;
@@ -252,6 +262,15 @@ TEST_P(OscillatorSensitivities, MatchAnalyticReference) {
   }
   // CVODES's DQ perturbations of p are undone.
   EXPECT_EQ(osc.parameters()[3], 0.4);
+  // The sensitivities' Newton systems go through the same linear solver: GMRES on J v only.
+  if (o.linear_solver == ks::LinearSolver::krylov) {
+    EXPECT_EQ(tr.result.stats.jac_evals, 0);
+    EXPECT_GT(tr.result.stats.jtimes_evals, 0);
+    EXPECT_EQ(tr.result.stats.jtimes_evals, osc.jtimes_calls);
+  } else {
+    EXPECT_GT(tr.result.stats.jac_evals, 0);
+    EXPECT_EQ(osc.jtimes_calls, 0);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -261,10 +280,14 @@ INSTANTIATE_TEST_SUITE_P(
                       SensCase{ks::SensitivityMethod::staggered1, ks::SensitivityRhs::exact},
                       SensCase{ks::SensitivityMethod::simultaneous, ks::SensitivityRhs::dq},
                       SensCase{ks::SensitivityMethod::staggered, ks::SensitivityRhs::dq},
-                      SensCase{ks::SensitivityMethod::staggered1, ks::SensitivityRhs::dq}),
+                      SensCase{ks::SensitivityMethod::staggered1, ks::SensitivityRhs::dq},
+                      SensCase{ks::SensitivityMethod::simultaneous, ks::SensitivityRhs::exact, ks::LinearSolver::krylov},
+                      SensCase{ks::SensitivityMethod::staggered, ks::SensitivityRhs::exact, ks::LinearSolver::krylov},
+                      SensCase{ks::SensitivityMethod::staggered1, ks::SensitivityRhs::exact, ks::LinearSolver::krylov},
+                      SensCase{ks::SensitivityMethod::staggered, ks::SensitivityRhs::dq, ks::LinearSolver::krylov}),
     [](const auto& info) {
-      return std::string(ks::to_string(info.param.method)) + "_" +
-             std::string(ks::to_string(info.param.rhs));
+      return std::string(ks::to_string(info.param.method)) + "_" + std::string(ks::to_string(info.param.rhs)) +
+             (info.param.linear_solver == ks::LinearSolver::krylov ? "_krylov" : "");
     });
 
 TEST(Integrator, ErrorShrinksWithTolerance) {
@@ -339,6 +362,36 @@ TEST(Integrator, ExactAndDqJacobianAgree) {
   EXPECT_GT(exact.result.stats.jac_evals, 0);
 }
 
+// Matrix-free Newton (GMRES on exact J v, or on CVODES's difference quotients J v) reaches the
+// dense solver's trajectory and sensitivities; the automatic choice takes dense for 2 states.
+TEST(Integrator, KrylovAndDenseAgree) {
+  const auto times = reference_times(closed_form_reference());
+  Oscillator a, b, c;
+  const Trajectory dense = run(tight(), a, times);
+  ks::SolverOptions o = tight();
+  o.linear_solver = ks::LinearSolver::krylov;
+  const Trajectory krylov = run(o, b, times);
+  o.jacobian = ks::JacobianKind::dq;
+  const Trajectory krylov_dq = run(o, c, times);
+  ASSERT_TRUE(dense.result.ok() && krylov.result.ok() && krylov_dq.result.ok()) << krylov.result.message;
+  const double d = max_abs_diff(dense, krylov), d_dq = max_abs_diff(dense, krylov_dq);
+  std::printf("[ measure  ] |dense - krylov| = %.3e, |dense - krylov dq| = %.3e; J v %ld, GMRES iterations %ld\n", d,
+              d_dq, krylov.result.stats.jtimes_evals, krylov.result.stats.lin_iters);
+  EXPECT_LT(d, 1e-8);
+  EXPECT_LT(d_dq, 1e-8);
+  EXPECT_GT(krylov.result.stats.jtimes_evals, 0);
+  EXPECT_EQ(krylov.result.stats.jtimes_evals, b.jtimes_calls);
+  EXPECT_EQ(krylov.result.stats.lin_rhs_evals, 0);
+  EXPECT_GT(krylov_dq.result.stats.lin_rhs_evals, 0);  // one RHS per difference-quotient J v
+  EXPECT_EQ(c.jtimes_calls, 0);
+  EXPECT_EQ(krylov.result.stats.jac_evals, 0);
+  EXPECT_EQ(dense.result.stats.jtimes_evals, 0);
+  EXPECT_EQ(ks::resolve_linear_solver(ks::LinearSolver::automatic, 2), ks::LinearSolver::dense);
+  EXPECT_EQ(ks::resolve_linear_solver(ks::LinearSolver::automatic, ks::kKrylovMinStates), ks::LinearSolver::krylov);
+  EXPECT_EQ(ks::resolve_linear_solver(ks::LinearSolver::dense, 100000), ks::LinearSolver::dense);
+  EXPECT_EQ(ks::resolve_linear_solver(ks::LinearSolver::krylov, 1), ks::LinearSolver::krylov);
+}
+
 // ---------- 2, 3, 4. failures are statuses ----------
 
 namespace {
@@ -384,6 +437,10 @@ class Faulty : public Oscillator {
     if (fault == Fault::throw_jacobian) throw 42;  // not even a std::exception
     Oscillator::jacobian(t, y, ydot, J);
   }
+  void jacobian_times(double t, const double* y, const double* ydot, const double* v, double* Jv) override {
+    if (fault == Fault::throw_jacobian) throw std::runtime_error("tangent lost");
+    Oscillator::jacobian_times(t, y, ydot, v, Jv);
+  }
   Fault fault;
 };
 
@@ -424,6 +481,17 @@ TEST(IntegratorFailure, ThrowingJacobianNonStdException) {
   EXPECT_EQ(tr.result.status, CV_LSETUP_FAIL);
   EXPECT_TRUE(contains(tr.result.message, "jacobian threw")) << tr.result.message;
   EXPECT_TRUE(contains(tr.result.message, "unknown exception")) << tr.result.message;
+}
+
+TEST(IntegratorFailure, ThrowingJacobianTimesWithKrylov) {
+  Faulty f(Faulty::Fault::throw_jacobian);
+  ks::SolverOptions o = tight();
+  o.linear_solver = ks::LinearSolver::krylov;
+  const Trajectory tr = run(o, f, kTimes);
+  std::printf("[ message  ] %s\n", tr.result.message.c_str());
+  EXPECT_LT(tr.result.status, 0);
+  EXPECT_TRUE(contains(tr.result.message, "jacobian_times threw")) << tr.result.message;
+  EXPECT_TRUE(contains(tr.result.message, "tangent lost")) << tr.result.message;
 }
 
 TEST(IntegratorFailure, TransientNanIsRecovered) {
@@ -659,6 +727,14 @@ TEST(IntegratorConfig, InvalidOptionsAndMissingCapabilitiesThrow) {
   }
   ks::SolverOptions o;
   o.jacobian = ks::JacobianKind::dq;
+  ks::SolverOptions krylov;
+  krylov.linear_solver = ks::LinearSolver::krylov;
+  try {
+    ks::integrate(p, krylov, times, noop);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(contains(e.what(), "Jacobian-vector product")) << e.what();
+  }
   EXPECT_THROW(ks::integrate(p, o, times, noop), std::invalid_argument);  // exact sens RHS missing
   o.sens_rhs = ks::SensitivityRhs::dq;
   EXPECT_THROW(ks::integrate(p, o, times, noop), std::invalid_argument);  // no dq_parameters()

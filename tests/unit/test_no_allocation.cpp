@@ -169,6 +169,7 @@ TEST(NoAllocation, SolverCallbacks) {
     auto all = [&] {
       p.rhs(0.2, y.data(), ydot.data());
       p.jacobian(0.2, y.data(), ydot.data(), J.data());
+      p.jacobian_times(0.2, y.data(), ydot.data(), s[0].data(), sd[0].data());
       p.sensitivity_rhs_all(0.2, y.data(), ydot.data(), ns, sp.data(), sdp.data());
       p.rhs_with_sensitivities(0.2, y.data(), ns, sp.data(), ydot.data(), sdp.data());
     };

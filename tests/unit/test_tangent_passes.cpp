@@ -1,6 +1,7 @@
 // The solvers' Jacobian and sensitivity right-hand sides come from multi-tangent passes (blocks
 // of 8 and 4 directions). They must equal, direction by direction, what one single-tangent Dual
-// pass per direction gives (the form the finite-difference and closed-form tests validate), on
+// pass per direction gives (the form the finite-difference and closed-form tests validate), and
+// the matrix-free product J v the assembled J times v and the differences of the RHS, on
 // scenes that take every path: planar and 3-D trees, quaternions, multipliers with projection,
 // the embedding, rolling with Baumgarte terms; and they must not allocate.
 #include <gtest/gtest.h>
@@ -93,8 +94,36 @@ TEST(TangentPasses, JacobianAndSensitivitiesMatchSingleTangentPasses) {
     EXPECT_LT(err / scale, 1e-12) << "Jacobian";
     std::printf("%s: Jacobian max rel diff %.2e (n = %d)\n", c.scene.c_str(), err / scale, n);
 
-    // Sensitivities: all at once vs one at a time, random s_i.
+    // Matrix-free products: J v from one Dual pass equals the assembled J times v to round-off,
+    // and the central difference of the right-hand side along v to its truncation error.
     std::uniform_real_distribution<double> u(-1, 1);
+    {
+      std::vector<double> v(static_cast<std::size_t>(n)), Jv(v.size()), JvJ(v.size(), 0.0);
+      for (double& x : v) x = u(rng);
+      p.jacobian_times(0.1, y.data(), ydot.data(), v.data(), Jv.data());
+      for (int j = 0; j < n; ++j)
+        for (int r = 0; r < n; ++r)
+          JvJ[static_cast<std::size_t>(r)] += J[static_cast<std::size_t>(j) * n + r] * v[static_cast<std::size_t>(j)];
+      double sc = 1, e = 0, efd = 0;
+      for (double x : JvJ) sc = std::max(sc, std::abs(x));
+      for (int r = 0; r < n; ++r) e = std::max(e, std::abs(Jv[static_cast<std::size_t>(r)] - JvJ[static_cast<std::size_t>(r)]));
+      EXPECT_LT(e / sc, 1e-12) << "J v vs the assembled J";
+      const double h = 1e-6;
+      std::vector<double> yp(y), ym(y), fp(v.size()), fm(v.size());
+      for (int r = 0; r < n; ++r) {
+        yp[static_cast<std::size_t>(r)] += h * v[static_cast<std::size_t>(r)];
+        ym[static_cast<std::size_t>(r)] -= h * v[static_cast<std::size_t>(r)];
+      }
+      p.rhs(0.1, yp.data(), fp.data());
+      p.rhs(0.1, ym.data(), fm.data());
+      for (int r = 0; r < n; ++r)
+        efd = std::max(efd, std::abs((fp[static_cast<std::size_t>(r)] - fm[static_cast<std::size_t>(r)]) / (2 * h) -
+                                     Jv[static_cast<std::size_t>(r)]));
+      EXPECT_LT(efd / sc, 1e-6) << "J v vs central differences of the right-hand side";
+      std::printf("%s: J v max rel diff %.2e vs J, %.2e vs differences\n", c.scene.c_str(), e / sc, efd / sc);
+    }
+
+    // Sensitivities: all at once vs one at a time, random s_i.
     std::vector<std::vector<double>> s(static_cast<std::size_t>(ns), std::vector<double>(static_cast<std::size_t>(n)));
     std::vector<std::vector<double>> all(s), one(s);
     std::vector<const double*> sp;

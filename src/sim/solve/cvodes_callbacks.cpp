@@ -38,6 +38,16 @@ int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* us
   });
 }
 
+int jtimes_trampoline(N_Vector v, N_Vector Jv, sunrealtype t, N_Vector y, N_Vector fy, void* user_data,
+                      N_Vector) noexcept {
+  CallbackData& cb = data_of(user_data);
+  return guarded(cb, "jacobian_times", t, true, [&] {
+    double* jv = N_VGetArrayPointer(Jv);
+    cb.problem->jacobian_times(t, N_VGetArrayPointer(y), N_VGetArrayPointer(fy), N_VGetArrayPointer(v), jv);
+    return cb.check_finite("jacobian_times", t, jv, cb.n);
+  });
+}
+
 int sens_rhs_trampoline(int /*Ns*/, sunrealtype t, N_Vector y, N_Vector ydot, int iS, N_Vector yS,
                         N_Vector ySdot, void* user_data, N_Vector, N_Vector) noexcept {
   CallbackData& cb = data_of(user_data);

@@ -106,6 +106,9 @@ int guarded(CallbackData& cb, const char* where, double t, bool recoverable, Bod
 int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept;
 int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user_data, N_Vector, N_Vector,
                    N_Vector) noexcept;
+// CVodeSetJacTimes's Jv = J v (matrix-free Newton–Krylov): OdeProblem::jacobian_times.
+int jtimes_trampoline(N_Vector v, N_Vector Jv, sunrealtype t, N_Vector y, N_Vector fy, void* user_data,
+                      N_Vector tmp) noexcept;
 int sens_rhs_trampoline(int ns, sunrealtype t, N_Vector y, N_Vector ydot, int iS, N_Vector yS, N_Vector ySdot,
                         void* user_data, N_Vector, N_Vector) noexcept;
 // All sensitivities in one call (CVodeSensInit): the problem evaluates every direction in one

@@ -60,9 +60,14 @@ void Integrator::Impl::check_problem(OdeProblem& problem, std::span<const double
 
   check_output_times(times, "integrate");
 
-  if (options.iteration == Iteration::newton && options.jacobian == JacobianKind::exact &&
-      !problem.has_jacobian()) {
-    invalid("solver.jacobian = exact, but the problem has no exact Jacobian (use dq)");
+  if (options.iteration == Iteration::newton && options.jacobian == JacobianKind::exact) {
+    if (resolve_linear_solver(options.linear_solver, n_states) == LinearSolver::krylov) {
+      if (!problem.has_jacobian_times())
+        invalid("solver.jacobian = exact with linear_solver krylov, but the problem has no exact Jacobian-vector "
+                "product (use dq)");
+    } else if (!problem.has_jacobian()) {
+      invalid("solver.jacobian = exact, but the problem has no exact Jacobian (use dq)");
+    }
   }
   if (problem.has_projection() && options.method != Method::bdf) {
     invalid("solver.method = adams: CVODES supports projection only with bdf");
@@ -123,7 +128,14 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
   }
 
   // → linear solver (Newton) or fixed-point nonlinear solver (functional iteration)
-  if (o.iteration == Iteration::newton) {
+  if (o.iteration == Iteration::newton && resolve_linear_solver(o.linear_solver, n_states) == LinearSolver::krylov) {
+    // Matrix-free: GMRES needs only products J v (without jacobian_times CVODES forms them by a
+    // difference quotient of the RHS).
+    LS = make_gmres_solver(y.get(), ctx.get());
+    check_ls_flag(CVodeSetLinearSolver(mem.get(), LS.get(), nullptr), "CVodeSetLinearSolver");
+    if (o.jacobian == JacobianKind::exact)
+      check_ls_flag(CVodeSetJacTimes(mem.get(), nullptr, jtimes_trampoline), "CVodeSetJacTimes");
+  } else if (o.iteration == Iteration::newton) {
     A = make_dense_matrix(n_states, ctx.get());
     LS = make_dense_solver(y.get(), A.get(), ctx.get());
     check_ls_flag(CVodeSetLinearSolver(mem.get(), LS.get(), A.get()), "CVodeSetLinearSolver");
@@ -282,6 +294,9 @@ SolverStats Integrator::Impl::collect_stats() const {
   if (options.iteration == Iteration::newton) {
     check_ls_flag(CVodeGetNumJacEvals(m, &s.jac_evals), "CVodeGetNumJacEvals");
     check_ls_flag(CVodeGetNumLinRhsEvals(m, &s.lin_rhs_evals), "CVodeGetNumLinRhsEvals");
+    check_ls_flag(CVodeGetNumJtimesEvals(m, &s.jtimes_evals), "CVodeGetNumJtimesEvals");
+    check_ls_flag(CVodeGetNumLinIters(m, &s.lin_iters), "CVodeGetNumLinIters");
+    check_ls_flag(CVodeGetNumLinConvFails(m, &s.lin_conv_fails), "CVodeGetNumLinConvFails");
   }
   if (ns > 0) {
     long setups = 0;
@@ -406,6 +421,9 @@ SolverStats& SolverStats::operator+=(const SolverStats& o) {
   rhs_evals += o.rhs_evals;
   jac_evals += o.jac_evals;
   lin_rhs_evals += o.lin_rhs_evals;
+  jtimes_evals += o.jtimes_evals;
+  lin_iters += o.lin_iters;
+  lin_conv_fails += o.lin_conv_fails;
   nonlin_iters += o.nonlin_iters;
   nonlin_conv_fails += o.nonlin_conv_fails;
   error_test_fails += o.error_test_fails;

@@ -8,7 +8,7 @@
 //   }
 //
 // The first integrate() builds the CVODES objects (context, vectors, dense matrix and LU
-// solver, cvode_mem, sensitivity vectors) in the documented order (cvsRoberts_FSA_dns.c):
+// solver or matrix-free GMRES, cvode_mem, sensitivity vectors) in the documented order (cvsRoberts_FSA_dns.c):
 // create → init → tolerances → linear solver → SensInit1 → sensitivity tolerances →
 // SetSensParams → SetSensErrCon. Later calls with a problem of the same shape (size,
 // number of sensitivities, projection or not) only re-initialise them (CVodeReInit,
@@ -45,7 +45,10 @@ struct SolverStats {
   long steps = 0;                  // CVodeGetNumSteps
   long rhs_evals = 0;              // CVodeGetNumRhsEvals (excludes DQ-Jacobian evals)
   long jac_evals = 0;              // CVodeGetNumJacEvals (exact or DQ)
-  long lin_rhs_evals = 0;          // CVodeGetNumLinRhsEvals: RHS evals for the DQ Jacobian
+  long lin_rhs_evals = 0;          // CVodeGetNumLinRhsEvals: RHS evals for the DQ Jacobian (or DQ J v)
+  long jtimes_evals = 0;           // CVodeGetNumJtimesEvals: J v products, exact or DQ (krylov)
+  long lin_iters = 0;              // CVodeGetNumLinIters: GMRES iterations (krylov)
+  long lin_conv_fails = 0;         // CVodeGetNumLinConvFails: GMRES failures to converge (krylov)
   long nonlin_iters = 0;           // CVodeGetNumNonlinSolvIters
   long nonlin_conv_fails = 0;      // CVodeGetNumNonlinSolvConvFails
   long error_test_fails = 0;       // CVodeGetNumErrTestFails

@@ -10,10 +10,10 @@
 // s_i(t0) is a unit vector). The integrator knows nothing about multibody systems; the Kane model
 // implements this interface (one OdeProblem object per sample, or one re-pointed per sample).
 //
-// Hot path: rhs, jacobian, sensitivity_rhs and project are called with raw pointers into
-// CVODES's own vectors and must neither allocate nor keep the pointers. They may throw: the
+// Hot path: rhs, jacobian, jacobian_times, sensitivity_rhs and project are called with raw
+// pointers into CVODES's own vectors and must neither allocate nor keep the pointers. They may throw: the
 // integrator's nothrow trampolines catch the exception, keep its message, and make CVODES stop
-// (return −1). A non-finite value written into ydot, J or sdot is caught by the trampoline too
+// (return −1). A non-finite value written into ydot, J, Jv or sdot is caught by the trampoline too
 // and reported to CVODES as a recoverable failure (+1: it retries with a smaller step), and so
 // is a RecoverableError: the state of a trial step where the equations cannot be solved (a
 // singular mass matrix), which a smaller step may avoid.
@@ -49,6 +49,13 @@ class OdeProblem {
   // call, but do not rely on it). Only called when has_jacobian() and the options ask for it.
   virtual bool has_jacobian() const { return false; }
   virtual void jacobian(double /*t*/, const double* /*y*/, const double* /*ydot*/, double* /*J*/) {}
+
+  // Exact Jacobian–vector product Jv (n) = J v for v (n) at (t, y), ydot = f(t, y) (matrix-free
+  // Newton–Krylov: CVODES's GMRES calls it once per Krylov iteration). Only called when
+  // has_jacobian_times() and the options ask for an exact Jacobian with the krylov solver.
+  virtual bool has_jacobian_times() const { return false; }
+  virtual void jacobian_times(double /*t*/, const double* /*y*/, const double* /*ydot*/, const double* /*v*/,
+                              double* /*Jv*/) {}
 
   // ns, the number of sensitivity parameters. 0 = no sensitivities are computed.
   virtual int num_sensitivities() const { return 0; }

@@ -70,6 +70,21 @@ std::string_view to_string(Iteration it) {
 std::string_view to_string(JacobianKind j) {
   return j == JacobianKind::exact ? "exact" : "dq";
 }
+std::string_view to_string(LinearSolver l) {
+  switch (l) {
+    case LinearSolver::dense:
+      return "dense";
+    case LinearSolver::krylov:
+      return "krylov";
+    case LinearSolver::automatic:
+      return "auto";
+  }
+  return "?";
+}
+LinearSolver resolve_linear_solver(LinearSolver option, int n) {
+  if (option != LinearSolver::automatic) return option;
+  return n >= kKrylovMinStates ? LinearSolver::krylov : LinearSolver::dense;
+}
 std::string_view to_string(SensitivityMethod s) {
   switch (s) {
     case SensitivityMethod::simultaneous:

@@ -12,6 +12,11 @@ namespace kanesens::sim {
 enum class Method { bdf, adams, dop853 };
 enum class Iteration { newton, functional };  // Newton + dense LU | fixed point (no Jacobian)
 enum class JacobianKind { exact, dq };        // OdeProblem::jacobian | CVODES difference quotient
+// How Newton's linear systems (I − γJ) x = b are solved: dense LU of the n×n Jacobian (rebuilt only
+// every few steps), matrix-free GMRES with Jacobian–vector products (OdeProblem::jacobian_times, or
+// CVODES's difference quotient with jacobian = dq), or chosen by the problem's size
+// (resolve_linear_solver).
+enum class LinearSolver { dense, krylov, automatic };
 enum class SensitivityMethod { simultaneous, staggered, staggered1 };  // CV_SIMULTANEOUS, ...
 enum class SensitivityRhs { exact, dq };  // OdeProblem::sensitivity_rhs | CVODES internal DQ
 
@@ -28,6 +33,7 @@ struct SolverOptions {
   double initial_step = 0;  // 0 = CVODES estimates it
   double max_step = 0;      // 0 = unbounded
   JacobianKind jacobian = JacobianKind::exact;  // only with iteration = newton
+  LinearSolver linear_solver = LinearSolver::automatic;  // only with iteration = newton
   SensitivityMethod sensitivity_method = SensitivityMethod::staggered;
   bool sens_error_control = true;  // sensitivities take part in the local error test
   SensitivityRhs sens_rhs = SensitivityRhs::exact;
@@ -50,6 +56,13 @@ struct SolverOptions {
 std::string_view to_string(Method m);
 std::string_view to_string(Iteration it);
 std::string_view to_string(JacobianKind j);
+std::string_view to_string(LinearSolver l);  // "dense", "krylov", "auto"
+
+// Below this many states `automatic` takes the dense solver, from it on krylov
+// (docs/explanation/solvers.md: where matrix-free Newton starts to pay).
+inline constexpr int kKrylovMinStates = 1000000;
+// The linear solver a Newton integration of n states uses: the option itself unless automatic.
+LinearSolver resolve_linear_solver(LinearSolver option, int n);
 std::string_view to_string(SensitivityMethod s);
 std::string_view to_string(SensitivityRhs s);
 

@@ -2,6 +2,7 @@
 
 #include <cvodes/cvodes_ls.h>
 #include <sunlinsol/sunlinsol_dense.h>
+#include <sunlinsol/sunlinsol_spgmr.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <cstdlib>
@@ -69,6 +70,13 @@ MatrixPtr make_dense_matrix(int n, SUNContext ctx) {
 LinearSolverPtr make_dense_solver(N_Vector y, SUNMatrix A, SUNContext ctx) {
   SUNLinearSolver ls = SUNLinSol_Dense(y, A, ctx);
   check_ptr(ls, "SUNLinSol_Dense");
+  return LinearSolverPtr(ls);
+}
+
+LinearSolverPtr make_gmres_solver(N_Vector y, SUNContext ctx) {
+  // No preconditioner; maxl 0 = SUNDIALS's default Krylov dimension.
+  SUNLinearSolver ls = SUNLinSol_SPGMR(y, SUN_PREC_NONE, 0, ctx);
+  check_ptr(ls, "SUNLinSol_SPGMR");
   return LinearSolverPtr(ls);
 }
 
