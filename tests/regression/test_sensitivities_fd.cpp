@@ -21,7 +21,8 @@
 // (so a state that a parameter barely moves is judged against a thousandth of the largest
 // response, not against its own near-zero size).
 //
-// Also: exact vs CVODES difference-quotient sensitivity RHS at rtol 1e-8 — error against the
+// Also: the same with matrix-free Newton (linear_solver krylov; staggered and simultaneous
+// corrections), and exact vs CVODES difference-quotient sensitivity RHS at rtol 1e-8 — error against the
 // same finite differences and cost (rhs evaluations) — printed as a table.
 #include <gtest/gtest.h>
 
@@ -217,13 +218,19 @@ TEST_P(SensitivitiesVsFiniteDifferences, ExactSensitivityRhsAgreesWithTrajectory
     ks::SensitivityRhs rhs;
     double rtol, atol;
     ks::Method method = ks::Method::bdf;
+    ks::LinearSolver linear_solver = ks::LinearSolver::dense;
+    ks::SensitivityMethod sensitivity_method = ks::SensitivityMethod::staggered;
   };
-  // The last row: the explicit DOP853 (its sensitivities from its own stages, not CVODES).
+  // Row 4: the explicit DOP853 (its sensitivities from its own stages, not CVODES); rows 5, 6:
+  // matrix-free Newton (GMRES on exact J v) for the state and the sensitivity corrections.
   const std::vector<Variant> variants = {
       {"exact", ks::SensitivityRhs::exact, 1e-10, 1e-12},
       {"exact", ks::SensitivityRhs::exact, 1e-8, 1e-10},
       {"dq", ks::SensitivityRhs::dq, 1e-8, 1e-10},
       {"dop853", ks::SensitivityRhs::exact, 1e-10, 1e-12, ks::Method::dop853},
+      {"kry/stg", ks::SensitivityRhs::exact, 1e-10, 1e-12, ks::Method::bdf, ks::LinearSolver::krylov},
+      {"kry/sim", ks::SensitivityRhs::exact, 1e-10, 1e-12, ks::Method::bdf, ks::LinearSolver::krylov,
+       ks::SensitivityMethod::simultaneous},
   };
   std::printf("\n  %-16s %-5s %-6s  %-9s  %6s %8s %9s %12s %9s\n", sc.name, "rhs", "rtol",
               "max err", "steps", "rhs", "sens rhs", "rhs for sens", "wall s");
@@ -232,6 +239,8 @@ TEST_P(SensitivitiesVsFiniteDifferences, ExactSensitivityRhsAgreesWithTrajectory
     ks::SolverOptions o = options(v.rtol, v.atol);
     o.sens_rhs = v.rhs;
     o.method = v.method;
+    o.linear_solver = v.linear_solver;
+    o.sensitivity_method = v.sensitivity_method;
     const Sensitivities r = run_sensitivities(m, sens, o, times);
     const std::vector<double> err = errors(r.s, fd, T, n, ns);
     err_of.push_back(err);
@@ -250,6 +259,8 @@ TEST_P(SensitivitiesVsFiniteDifferences, ExactSensitivityRhsAgreesWithTrajectory
                                   << " (exact, rtol 1e-8)";
     EXPECT_LT(err_of[2][i], 1e-3) << sc.name << ": " << sc.sensitivities[i] << " (dq, rtol 1e-8)";
     EXPECT_LT(err_of[3][i], 1e-6) << sc.name << ": " << sc.sensitivities[i] << " (dop853, rtol 1e-10)";
+    EXPECT_LT(err_of[4][i], 1e-6) << sc.name << ": " << sc.sensitivities[i] << " (krylov, staggered)";
+    EXPECT_LT(err_of[5][i], 1e-6) << sc.name << ": " << sc.sensitivities[i] << " (krylov, simultaneous)";
   }
 }
 
