@@ -177,6 +177,9 @@ expect_bad run-degenerate-constraint "degenerate.yaml:6:17: scene.constraints\[0
 expect_bad run1-degenerate-constraint "degenerate.yaml:6:17: scene.constraints\[0\]: constraint 'g' constrains nothing" out8.h5 "$KANESENS" run degenerate.yaml -o out8.h5
 sed 's/^time:.*/time: {end: 0.2, outputs: 5}\nsolver: {atol: [1e-8, 1e-8]}/' study.yaml > short_atol.yaml
 expect_bad run-short-atol "short_atol.yaml:4:[0-9]*: solver.atol: expected one entry per state (4: shoulder.q, elbow.q, shoulder.u, elbow.u), found 2" out8.h5 mpirun_run short_atol.yaml -o out8.h5
+sed 's/^time:.*/time: {end: 0.2, outputs: 5}\nsolver: {linear_solver: sparse}/' study.yaml > linear_solver.yaml
+expect_bad run-linear-solver "linear_solver.yaml:4:[0-9]*: solver.linear_solver: expected one of dense, krylov, auto" out8.h5 mpirun_run linear_solver.yaml -o out8.h5
+expect_bad simulate-linear-solver "linear_solver.yaml:4:[0-9]*: solver.linear_solver: expected one of dense, krylov, auto" - "$KANESENS" simulate linear_solver.yaml
 sed 's/^sensitivities: \[m2\]/sensitivities: [m2, L1, m2]/' study.yaml > sens_twice.yaml
 expect_bad run-sensitivity-twice "sens_twice.yaml:7:[0-9]*: sensitivities\[2\]: 'm2' is listed twice" out8.h5 mpirun_run sens_twice.yaml -o out8.h5
 expect_bad simulate-sens-twice "--sens: 'm2' is listed twice" - "$KANESENS" simulate study.yaml --sens m2,m2

@@ -109,6 +109,12 @@ int jac_trampoline(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* us
 // CVodeSetJacTimes's Jv = J v (matrix-free Newton–Krylov): OdeProblem::jacobian_times.
 int jtimes_trampoline(N_Vector v, N_Vector Jv, sunrealtype t, N_Vector y, N_Vector fy, void* user_data,
                       N_Vector tmp) noexcept;
+// The identity preconditioner of the krylov solver (why: integrator.cpp): setup does nothing,
+// solve copies r into z.
+int identity_psetup(sunrealtype t, N_Vector y, N_Vector fy, sunbooleantype jok, sunbooleantype* jcur,
+                    sunrealtype gamma, void* user_data) noexcept;
+int identity_psolve(sunrealtype t, N_Vector y, N_Vector fy, N_Vector r, N_Vector z, sunrealtype gamma,
+                    sunrealtype delta, int lr, void* user_data) noexcept;
 int sens_rhs_trampoline(int ns, sunrealtype t, N_Vector y, N_Vector ydot, int iS, N_Vector yS, N_Vector ySdot,
                         void* user_data, N_Vector, N_Vector) noexcept;
 // All sensitivities in one call (CVodeSensInit): the problem evaluates every direction in one

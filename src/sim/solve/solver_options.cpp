@@ -49,6 +49,9 @@ void SolverOptions::validate(int n) const {
   if (sens_atol && !positive_finite(*sens_atol)) {
     invalid("sensitivity.atol", "must be a finite number > 0", *sens_atol);
   }
+  if (linear_solver != LinearSolver::automatic && (method == Method::dop853 || iteration == Iteration::functional))
+    invalid("linear_solver", "must be auto (unused) without Newton iteration (dop853, or iteration: functional)",
+            to_string(linear_solver));
   if (projection_frequency < 0)
     invalid("projection_frequency", "must be >= 0", projection_frequency);
 }

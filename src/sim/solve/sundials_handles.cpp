@@ -74,8 +74,8 @@ LinearSolverPtr make_dense_solver(N_Vector y, SUNMatrix A, SUNContext ctx) {
 }
 
 LinearSolverPtr make_gmres_solver(N_Vector y, SUNContext ctx) {
-  // No preconditioner; maxl 0 = SUNDIALS's default Krylov dimension.
-  SUNLinearSolver ls = SUNLinSol_SPGMR(y, SUN_PREC_NONE, 0, ctx);
+  // Preconditioned on the left (the integrator's); maxl 0 = SUNDIALS's default Krylov dimension.
+  SUNLinearSolver ls = SUNLinSol_SPGMR(y, SUN_PREC_LEFT, 0, ctx);
   check_ptr(ls, "SUNLinSol_SPGMR");
   return LinearSolverPtr(ls);
 }

@@ -69,7 +69,7 @@ ContextPtr make_context();
 NVectorPtr make_serial_vector(int n, SUNContext ctx);
 MatrixPtr make_dense_matrix(int n, SUNContext ctx);
 LinearSolverPtr make_dense_solver(N_Vector y, SUNMatrix A, SUNContext ctx);
-// Matrix-free GMRES (SUNLinSol_SPGMR), unpreconditioned, SUNDIALS's default Krylov dimension.
+// Matrix-free GMRES (SUNLinSol_SPGMR), left preconditioning, SUNDIALS's default Krylov dimension.
 LinearSolverPtr make_gmres_solver(N_Vector y, SUNContext ctx);
 CvodeMemPtr make_cvode(int lmm, SUNContext ctx);
 
