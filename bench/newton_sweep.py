@@ -51,7 +51,8 @@ def run(kanesens: str, study: Path, repeat: int) -> dict:
         if first is None:
             first = d
     s = first["stats"]
-    return {"status": 1, "wall_seconds_median": statistics.median(walls), "wall_seconds": walls,
+    return {"status": 1, "linear_solver": s["linear_solver"], "wall_seconds_median": statistics.median(walls),
+            "wall_seconds": walls,
             "steps": s["steps"], "rhs_evals": s["rhs_evals"], "jac_evals": s["jac_evals"],
             "jtimes_evals": s["jtimes_evals"], "lin_iters": s["lin_iters"],
             "lin_rhs_evals": s["lin_rhs_evals"], "nonlin_iters": s["nonlin_iters"],

@@ -47,9 +47,10 @@ std::string n_four_bar(int n) {
 }
 
 // A planar chain of n rods with joint springs and dampers, hanging from the origin.
-std::string chain(int n) {
+std::string chain(int n, double k = 20, double c = 0.2) {
   std::string s = "kanesens: 1\nscene:\n  name: chain\n  gravity: [0, -9.81, 0]\n"
-                  "  parameters: {m: 1.0, L: 1.0, k: 20.0, c: 0.2}\n  bodies:\n";
+                  "  parameters: {m: 1.0, L: 1.0, k: " + std::to_string(k) + ", c: " + std::to_string(c) +
+                  "}\n  bodies:\n";
   for (int i = 1; i <= n; ++i)
     s += "    - {name: link" + std::to_string(i) + ", mass: m, inertia: {shape: rod, length: L, axis: y}}\n";
   s += "  joints:\n";
@@ -81,6 +82,7 @@ class Crank : public ks::OdeProblem {
 
 ks::Trajectory simulate(const ks::Model& m, ks::LinearSolver ls, const std::vector<double>& times,
                         const std::vector<ks::InputRef>& sens = {}) {
+  SCOPED_TRACE(m.name);
   ks::KaneProblem problem(m, sens);
   ks::SolverOptions o;
   o.linear_solver = ls;
@@ -189,4 +191,20 @@ TEST(NewtonKrylov, JacobiansOfLoopsAndChainsAreDense) {
     EXPECT_GT(fq, 0.5) << label;
     EXPECT_GT(fu, 0.9) << label;
   }
+}
+
+// linear_solver: auto takes krylov for a large mechanism whose Jacobian's spectral radius is
+// small (the N four-bar, N = 30: 122 states), dense for a small one and for a large stiff one
+// (a 64-link chain with stiff overdamped joints: radius ~5e4/s, where GMRES without a
+// preconditioner needs many iterations).
+TEST(NewtonKrylov, AutoChoosesBySizeAndStiffness) {
+  const std::vector<double> t = times(0.02, 3);
+  EXPECT_EQ(simulate(model_from_text(n_four_bar(30)), ks::LinearSolver::automatic, t).result.linear_solver,
+            ks::LinearSolver::krylov);
+  EXPECT_EQ(simulate(model_from_text(chain(64)), ks::LinearSolver::automatic, t).result.linear_solver,
+            ks::LinearSolver::krylov);
+  EXPECT_EQ(simulate(model_from_text(n_four_bar(5)), ks::LinearSolver::automatic, t).result.linear_solver,
+            ks::LinearSolver::dense);
+  EXPECT_EQ(simulate(model_from_text(chain(64, 1e5, 1e3)), ks::LinearSolver::automatic, t).result.linear_solver,
+            ks::LinearSolver::dense);
 }

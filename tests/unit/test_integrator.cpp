@@ -388,6 +388,10 @@ TEST(Integrator, KrylovAndDenseAgree) {
   EXPECT_EQ(dense.result.stats.jtimes_evals, 0);
   EXPECT_EQ(ks::resolve_linear_solver(ks::LinearSolver::automatic, 2), ks::LinearSolver::dense);
   EXPECT_EQ(ks::resolve_linear_solver(ks::LinearSolver::automatic, ks::kKrylovMinStates), ks::LinearSolver::krylov);
+  EXPECT_EQ(ks::resolve_linear_solver(ks::LinearSolver::automatic, ks::kKrylovMinStates, 10 * ks::kKrylovMaxRate),
+            ks::LinearSolver::dense);  // stiff
+  EXPECT_EQ(dense.result.linear_solver, ks::LinearSolver::dense);  // auto, 2 states
+  EXPECT_EQ(krylov.result.linear_solver, ks::LinearSolver::krylov);
   EXPECT_EQ(ks::resolve_linear_solver(ks::LinearSolver::dense, 100000), ks::LinearSolver::dense);
   EXPECT_EQ(ks::resolve_linear_solver(ks::LinearSolver::krylov, 1), ks::LinearSolver::krylov);
 }

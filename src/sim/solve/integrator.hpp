@@ -80,6 +80,9 @@ struct IntegrationResult {
   // The status stays 1 (ok) and the message says it stopped.
   double stopped_at = std::numeric_limits<double>::quiet_NaN();
   SolverStats stats;
+  // The linear solver of Newton's iteration (dense or krylov, as options.linear_solver resolved
+  // for this problem); automatic when there was none (functional iteration, dop853).
+  LinearSolver linear_solver = LinearSolver::automatic;
   bool ok() const { return status == 1; }
 };
 

@@ -32,6 +32,7 @@ struct Integrator::Impl {
   int ns = 0;
   int nquad = 0;
   bool projection = false;
+  LinearSolver linear_solver = LinearSolver::dense;  // Newton's, resolved (automatic: no Newton)
 
   // Declared in creation order; release() frees them in reverse (cvode_mem first).
   ContextPtr ctx;
@@ -101,6 +102,10 @@ struct Integrator::Impl {
   }
 
   void check_problem(OdeProblem& problem, std::span<const double> times) const;
+  // options.linear_solver, or for automatic the choice for this problem (resolve_linear_solver
+  // with the estimated spectral radius of J at t0); automatic when there is no Newton iteration.
+  LinearSolver choose_linear_solver(OdeProblem& problem, double t0) const;
+  double jacobian_rate(OdeProblem& problem, double t0) const;
   // Steps one at a time, records the outputs each step passes and restarts where the problem
   // changes its coordinates (OdeProblem::after_step). Outputs 1.. into `result`.
   void integrate_stepwise(OdeProblem& problem, std::span<const double> times, const RecordFn& record,

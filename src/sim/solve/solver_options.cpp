@@ -84,9 +84,9 @@ std::string_view to_string(LinearSolver l) {
   }
   return "?";
 }
-LinearSolver resolve_linear_solver(LinearSolver option, int n) {
+LinearSolver resolve_linear_solver(LinearSolver option, int n, double jacobian_rate) {
   if (option != LinearSolver::automatic) return option;
-  return n >= kKrylovMinStates ? LinearSolver::krylov : LinearSolver::dense;
+  return n >= kKrylovMinStates && jacobian_rate <= kKrylovMaxRate ? LinearSolver::krylov : LinearSolver::dense;
 }
 std::string_view to_string(SensitivityMethod s) {
   switch (s) {

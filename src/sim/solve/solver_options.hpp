@@ -58,11 +58,16 @@ std::string_view to_string(Iteration it);
 std::string_view to_string(JacobianKind j);
 std::string_view to_string(LinearSolver l);  // "dense", "krylov", "auto"
 
-// Below this many states `automatic` takes the dense solver, from it on krylov
-// (docs/explanation/solvers.md: where matrix-free Newton starts to pay).
-inline constexpr int kKrylovMinStates = 1000000;
-// The linear solver a Newton integration of n states uses: the option itself unless automatic.
-LinearSolver resolve_linear_solver(LinearSolver option, int n);
+// `automatic` takes krylov for problems of at least kKrylovMinStates states whose Jacobian's
+// spectral radius at the initial state is at most kKrylovMaxRate (1/s): there one J v costs far
+// less than a dense Jacobian and unpreconditioned GMRES converges in about one iteration per
+// Newton iteration; stiff problems (a larger radius) need the dense LU. Measured:
+// docs/explanation/solvers.md, bench/newton_sweep.py.
+inline constexpr int kKrylovMinStates = 120;
+inline constexpr double kKrylovMaxRate = 1e3;
+// The linear solver a Newton integration of n states uses: the option itself unless automatic;
+// jacobian_rate: the estimated spectral radius of J (needed only when n >= kKrylovMinStates).
+LinearSolver resolve_linear_solver(LinearSolver option, int n, double jacobian_rate = 0);
 std::string_view to_string(SensitivityMethod s);
 std::string_view to_string(SensitivityRhs s);
 
