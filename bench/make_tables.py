@@ -26,7 +26,8 @@ ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 
 DOCS = [ROOT / "docs" / "benchmarks.md", ROOT / "docs" / "peers.md", ROOT / "docs" / "workprecision.md",
-        ROOT / "docs" / "explanation" / "stability.md", ROOT / "docs" / "explanation" / "constraints.md"]
+        ROOT / "docs" / "explanation" / "stability.md", ROOT / "docs" / "explanation" / "constraints.md",
+        ROOT / "docs" / "explanation" / "solvers.md"]
 RESULTS = HERE / "results"
 PEERS = ROOT / "docs" / "peers"
 WP = ROOT / "docs" / "workprecision"
@@ -126,6 +127,39 @@ def outputs_cost():
              "all outputs": "the above plus velocity, acceleration, a joint load and an integral of its power"}
     rows = [[names.get(k, k), f"{v * 1e3:.1f}", f"{d['ratio_to_plain'][k]:.2f}"] for k, v in d["median_seconds"].items()]
     return md(["outputs", "median wall time (ms)", "ratio to no outputs"], rows, ["---", "---:", "---:"]) + source(p)
+
+
+def newton_sweep():
+    """Dense vs matrix-free Newton on the N four-bar and a chain (explanation/solvers.md)."""
+    p = RESULTS / "newton_sweep.json"
+    rows = []
+    for c in load(p)["cases"]:
+        s = c["solvers"]
+        de, kr, kd = s["dense"], s["krylov"], s["krylov_dq"]
+        if c["family"] == "n_four_bar":
+            name, err = "N four-bar", lambda r: f"{r['error_vs_exact']:.1e}"
+            errors = f"{err(de)} / {err(kr)}"
+        else:
+            name, errors = "chain", f"— / {kr['max_difference_vs_dense']:.1e}"
+        rows.append([name, c["n"], c["states"], f"{de['wall_seconds_median']:.3g}", f"{kr['wall_seconds_median']:.3g}",
+                     f"{kr['wall_ratio_vs_dense']:.2f}", f"{kd['wall_ratio_vs_dense']:.2f}", de["jac_evals"],
+                     kr["jtimes_evals"], f"{de['steps']} / {kr['steps']}", errors])
+    return md(["mechanism", "N", "states", "dense s", "krylov s", "krylov / dense", "krylov (`jacobian: dq`) / dense",
+               "dense J", "krylov J v", "steps dense / krylov", "error dense / krylov"], rows,
+              ["---"] + ["---:"] * 10) + source(p)
+
+
+def newton_stiff():
+    """Matrix-free Newton on chains with stiff joints, and what auto chose (explanation/solvers.md)."""
+    p = RESULTS / "newton_sweep_stiff.json"
+    rows = []
+    for c in load(p)["cases"]:
+        de, kr, au = c["solvers"]["dense"], c["solvers"]["krylov"], c["solvers"]["auto"]
+        rows.append([f"{c['spring']:g}", f"{c['damper']:g}", f"{de['steps']} / {kr['steps']}",
+                     f"{de['nonlin_conv_fails']} / {kr['nonlin_conv_fails']}", kr["jtimes_evals"],
+                     f"{kr['wall_ratio_vs_dense']:.2f}", au["linear_solver"]])
+    return md(["k (N m/rad)", "c (N m s/rad)", "steps dense / krylov", "Newton failures dense / krylov",
+               "krylov J v", "krylov / dense (time)", "auto chose"], rows, ["---:"] * 6 + ["---"]) + source(p)
 
 
 def sensitivities_table():
@@ -703,6 +737,7 @@ def _ratio_from_cell(cell: str):
 TABLES = {
     "rhs_mujoco": rhs_mujoco, "rhs_paths": rhs_paths, "jacobian_cost": jacobian_cost,
     "sensitivity_cost": sensitivity_cost, "multitangent": multitangent, "outputs_cost": outputs_cost,
+    "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,
     "sensitivities": sensitivities_table, "constraints": constraints_table, "ensemble": ensemble_table,
     "peers_summary": peers_summary,
     "sympy_derivation": sympy_derivation, "sympy_reference": sympy_reference, "sympy_tta": sympy_tta,

@@ -8,7 +8,9 @@ Two families:
     multipliers + projection), the 20-s study at rtol 1e-8; error = max |crank0.q - φ(t)| over
     the outputs against the exact 1-DOF solution;
   * a planar chain of N links with joint springs and dampers (scripts/gen_chain.py), a 5-s swing
-    at rtol 1e-8; error = max |state - dense state| (no closed form: the solvers' agreement).
+    at rtol 1e-8; error = max |state - dense state| (no closed form: the solvers' agreement);
+  * optionally (--stiff-chain N:k:c) chains with stiff joints, 2 s at rtol 1e-6, with what
+    linear_solver: auto chose.
 
 For every case and linear solver: `kanesens simulate` --repeat times, the median (and all) of
 the integration's wall seconds (stats.wall_seconds, setup included), and the solver counters of
@@ -16,6 +18,7 @@ the first run. Timings on a shared machine are noisy: compare the ratios of one 
 
     /usr/bin/python3 bench/newton_sweep.py --kanesens build/kanesens \\
         --out bench/results/newton_sweep.json [--four-bar 5 10 20 40] [--chain 8 16 32 64] [--repeat 3]
+        [--stiff-chain 64:1e4:10 64:1e5:100 64:1e5:1e3]
 """
 from __future__ import annotations
 
@@ -97,12 +100,33 @@ def chain(kanesens: str, n: int, repeat: int, tmp: Path) -> dict:
     return case
 
 
+def stiff_chain(kanesens: str, n: int, k: float, c: float, repeat: int, tmp: Path) -> dict:
+    """A chain whose joints (all but the first) carry stiff springs and dampers, released at
+    rest from j1.q0 = 0.5: how much stiffness unpreconditioned GMRES stands, and what auto takes."""
+    scene = tmp / f"stiff_chain_{n}_{k:g}_{c:g}.yaml"
+    text = subprocess.run([sys.executable, str(HERE.parent / "scripts" / "gen_chain.py"), str(n), "--spring", str(k),
+                           "--damper", str(c), "--q0", "0.5", "--free-first"],
+                          capture_output=True, text=True, check=True).stdout
+    scene.write_text(text)
+    case = {"family": "stiff_chain", "n": n, "nbody": n, "states": 2 * n, "spring": k, "damper": c, "end": 2.0,
+            "rtol": 1e-6, "atol": 1e-8, "solvers": {}}
+    for name, keys in {"dense": SOLVERS["dense"], "krylov": SOLVERS["krylov"],
+                       "auto": "linear_solver: auto, jacobian: exact"}.items():
+        study = tmp / f"stiff_chain_{n}_{k:g}_{c:g}_{name}.yaml"
+        study.write_text(f"kanesens: 1\nscene: {scene}\ntime: {{end: 2.0, outputs: 11}}\n"
+                         f"solver: {{method: bdf, rtol: 1.0e-6, atol: 1.0e-8, {keys}}}\n")
+        case["solvers"][name] = run(kanesens, study, repeat)
+    return case
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--kanesens", default="build/kanesens")
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--four-bar", type=int, nargs="*", default=[5, 10, 20, 40])
     ap.add_argument("--chain", type=int, nargs="*", default=[8, 16, 32, 64])
+    ap.add_argument("--stiff-chain", type=str, nargs="*", default=[],
+                    help="N:k:c chains with stiff joints, e.g. 64:1e5:1e3")
     ap.add_argument("--repeat", type=int, default=3)
     a = ap.parse_args()
     cases = []
@@ -112,6 +136,9 @@ def main() -> None:
             cases.append(four_bar(a.kanesens, n, a.repeat, tmp))
         for n in a.chain:
             cases.append(chain(a.kanesens, n, a.repeat, tmp))
+        for spec in a.stiff_chain:
+            n, k, c = spec.split(":")
+            cases.append(stiff_chain(a.kanesens, int(n), float(k), float(c), a.repeat, tmp))
     for c in cases:
         dense = c["solvers"]["dense"]
         for name, r in c["solvers"].items():
@@ -119,7 +146,7 @@ def main() -> None:
                 del r[k]
             if r["status"] == 1 and dense["status"] == 1:
                 r["wall_ratio_vs_dense"] = r["wall_seconds_median"] / dense["wall_seconds_median"]
-            print(f"{c['family']:10s} N={c['n']:3d} {name:9s} " + (
+            print(f"{c['family']:11s} N={c['n']:3d} {name:9s} {r.get('linear_solver', '')} " + (
                 f"{r['wall_seconds_median']:8.3f} s  ratio {r.get('wall_ratio_vs_dense', 0):5.2f}  steps {r['steps']:5d}"
                 f"  rhs {r['rhs_evals']:5d}  J {r['jac_evals']:3d}  Jv {r['jtimes_evals']:5d}"
                 f"  newton {r['nonlin_iters']:5d}  err {r.get('error_vs_exact', r.get('max_difference_vs_dense', 0)):.2e}"
