@@ -1,7 +1,8 @@
 // The embedding re-chooses its independent speeds when its partition degrades (coordinate
 // partitioning with re-selection): a turning knife-edge vehicle over several full turns (its one
 // dependent speed's coefficient passes through zero twice a turn) against the closed form and
-// the multiplier formulation, for BDF, Adams and DOP853, with sensitivities; the parallelogram
+// the multiplier formulation, for BDF, Adams (dense and matrix-free Newton) and DOP853, with
+// sensitivities; the parallelogram
 // four-bar through its toggle positions; a sample whose constraints lose rank fails naming them.
 #include <gtest/gtest.h>
 
@@ -51,8 +52,13 @@ TEST(EmbeddingRepartition, KnifeEdgeTurnsSeveralTimesUnderEveryMethod) {
   const ks::Model model = model_from_text(kKnifeEdge);
   const auto times = linspace(0, 10, 101);  // 20 rad: 3.2 turns
   const std::vector<std::string> sens = {"v", "m"};
-  for (Method method : {Method::bdf, Method::adams, Method::dop853}) {
-    const sim::SolverOptions so = with_method(method, 1e-10, 1e-12);
+  // Newton with matrix-free GMRES too (linear_solver krylov): through the restarts, with Adams.
+  for (const auto& [method, linear_solver] :
+       {std::pair{Method::bdf, LinearSolver::dense}, std::pair{Method::adams, LinearSolver::dense},
+        std::pair{Method::dop853, LinearSolver::automatic}, std::pair{Method::bdf, LinearSolver::krylov},
+        std::pair{Method::adams, LinearSolver::krylov}}) {
+    sim::SolverOptions so = with_method(method, 1e-10, 1e-12);
+    so.linear_solver = linear_solver;
     const TrajRun e = run(model, times, formulation(ConstraintOptions::Formulation::embedding, Stab::none), so, sens);
     const TrajRun l = run(model, times,
                           formulation(ConstraintOptions::Formulation::multipliers,
@@ -76,10 +82,10 @@ TEST(EmbeddingRepartition, KnifeEdgeTurnsSeveralTimesUnderEveryMethod) {
       residual = std::max(residual, e.tr.velocity_residual[static_cast<std::size_t>(k)]);
     }
     const auto& st = e.tr.result.stats;
-    std::printf("measure: knife edge, 3.2 turns, %s: embedding vs closed form %.1e, vs multipliers %.1e, relative "
+    std::printf("measure: knife edge, 3.2 turns, %s/%s: embedding vs closed form %.1e, vs multipliers %.1e, relative "
                 "energy drift %.1e, sensitivities vs closed form %.1e, velocity residual %.1e; repartitions %ld, "
                 "steps %ld (multipliers %ld), rhs %ld (%ld)\n",
-                std::string(to_string(method)).c_str(), closed, vs_multipliers, energy, sens_closed, residual,
+                std::string(to_string(method)).c_str(), std::string(to_string(linear_solver)).c_str(), closed, vs_multipliers, energy, sens_closed, residual,
                 st.repartitions, st.steps, l.tr.result.stats.steps, st.rhs_evals, l.tr.result.stats.rhs_evals);
     EXPECT_LT(closed, 1e-7);
     EXPECT_LT(vs_multipliers, 1e-7);
