@@ -5,14 +5,18 @@
 //   jacobian_dual  the exact Jacobian ∂ẏ/∂y column by column: nq + nu evaluate_rhs on Dual
 //   jacobian       the exact Jacobian as the solvers get it (KaneProblem::jacobian): columns in
 //                  blocks of up to 16, one multi-tangent pass per block
+//   jacobian_times one product J v as matrix-free Newton gets it (KaneProblem::jacobian_times):
+//                  one Dual pass
 // On a scene with constraints, `rhs` includes the multipliers (A M⁻¹ Aᵀ λ = b − A M⁻¹ f) at the
 // random state, which violates the constraints. Such a scene adds the right-hand sides CVODES
 // integrates at the scene's consistent initial state (the embedding needs a state that the
 // independent speeds parameterise), which is where peers are compared (Simbody's
 // realize(Acceleration), MuJoCo's mj_forward with an equality constraint):
 //   rhs_multipliers  KaneProblem::rhs, multipliers formulation
+//   jacobian_times_multipliers  KaneProblem::jacobian_times there, multipliers formulation
 //   rhs_embedding    KaneProblem::rhs, embedding: reconstruct u, Cᵀ M C u̇_i = Cᵀ(f − M d)
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <iostream>
 #include <random>
@@ -140,6 +144,12 @@ int run_bench_rhs(const BenchOptions& o) {
       problem.jacobian(0.0, y.data(), ydot.data(), jac.data());
       sink += jac.back();
     }));
+    std::vector<double> v(static_cast<std::size_t>(n)), jv(v.size());
+    for (int i = 0; i < n; ++i) v[static_cast<std::size_t>(i)] = std::sin(1.0 + i);
+    timings.push_back(time_it("jacobian_times", o, [&] {
+      problem.jacobian_times(0.0, y.data(), ydot.data(), v.data(), jv.data());
+      sink += jv.back();
+    }));
   }
 
   // Constrained right-hand sides at the consistent initial state (nominal parameters).
@@ -159,6 +169,14 @@ int run_bench_rhs(const BenchOptions& o) {
         problem.rhs(0.0, y0.data(), y0dot.data());
         sink += y0dot.back();
       }));
+      if (multipliers) {
+        std::vector<double> v(y0.size()), jv(y0.size());
+        for (std::size_t i = 0; i < v.size(); ++i) v[i] = std::sin(1.0 + static_cast<double>(i));
+        timings.push_back(time_it("jacobian_times_multipliers", o, [&] {
+          problem.jacobian_times(0.0, y0.data(), y0dot.data(), v.data(), jv.data());
+          sink += jv.back();
+        }));
+      }
     }
   }
 

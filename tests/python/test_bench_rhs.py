@@ -28,7 +28,7 @@ def bench(scene):
 
 def test_unconstrained_scene_has_no_constrained_timings():
     d = bench("configs/nlink_chain_4.yaml")
-    for key in ("rhs", "mass_matrix_and_forcing", "jacobian_dual"):
+    for key in ("rhs", "mass_matrix_and_forcing", "jacobian_dual", "jacobian", "jacobian_times"):
         assert d[key]["median_ns"] > 0 and d[key]["evaluations_per_second"] > 0
     assert "rhs_multipliers" not in d and "rhs_embedding" not in d and "constrained_state" not in d
 
@@ -36,7 +36,7 @@ def test_unconstrained_scene_has_no_constrained_timings():
 def test_constrained_timings_at_a_consistent_state():
     d = bench("configs/four_bar.yaml")
     assert d["nconstraint_rows"] == 2
-    for key in ("rhs_multipliers", "rhs_embedding"):
+    for key in ("rhs_multipliers", "rhs_embedding", "jacobian_times_multipliers"):
         assert d[key]["median_ns"] > 0, key
     y = d["constrained_state"]
     assert len(y) == d["nq"] + d["nu"]
