@@ -157,11 +157,10 @@ void OutputEvaluator::argextremum_tangents(std::size_t j, double t, const double
   const int of = plan_.nodes[static_cast<std::size_t>(n.of)].slot;
   if (!second_) second_.reset(new SecondOrder(model_, plan_.nvalues));
   full_at(t, y, s);
-  ydot_full_.resize(static_cast<std::size_t>(model_.nstate()));
-  if (!dynamics::evaluate_rhs(model_, problem_.workspaces().values(), t, y_full_.data(), ydot_full_.data(),
-                              problem_.dynamics_options()))
-    throw std::runtime_error("outputs: mass matrix is not positive definite at t = " + std::to_string(t));
   SampleWorkspaces& ws = problem_.workspaces();
+  ydot_full_.resize(static_cast<std::size_t>(model_.nstate()));
+  if (!dynamics::evaluate_rhs(model_, ws.values(), t, y_full_.data(), ydot_full_.data(), problem_.dynamics_options()))
+    throw std::runtime_error("outputs: mass matrix is not positive definite at t = " + std::to_string(t));
   const double rdot = rate_derivative(of, t, 1.0, ydot_full_.data(), ws.jacobian(), -1);
   for (int k = 0; k < ns_; ++k) {
     const InputRef& ref = problem_.sensitivities()[static_cast<std::size_t>(k)];
