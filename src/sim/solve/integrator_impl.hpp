@@ -1,6 +1,7 @@
 // Integrator's state (internal to sim/solve): the CVODES objects of one problem shape, reused
 // across integrations, and the data its callbacks share. integrator.cpp builds and drives it;
-// integrator_stepwise.cpp holds the step-by-step path (re-partitioning restarts).
+// integrator_stepwise.cpp holds the step-by-step path (re-partitioning restarts),
+// integrator_linear_solver.cpp the choice of Newton's linear solver.
 #pragma once
 #include <cvodes/cvodes.h>
 
