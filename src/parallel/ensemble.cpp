@@ -45,8 +45,9 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 constexpr int kStatusInvalidInputs = -100;  // sampled parameters are not physical (mass ≤ 0, ...)
 constexpr int kStatusException = -101;      // any other error while running the sample
 
-const std::vector<std::string> kStatNames = {"steps",          "rhs_evals",    "jac_evals",   "nonlin_iters",
-                                             "error_test_fails", "sens_rhs_evals", "repartitions", "wall_seconds"};
+const std::vector<std::string> kStatNames = {"steps",          "rhs_evals",      "jac_evals",    "jtimes_evals",
+                                             "nonlin_iters",   "error_test_fails", "sens_rhs_evals", "repartitions",
+                                             "wall_seconds"};
 
 std::string fnv1a_hex(const std::string& s) {
   unsigned long long h = 1469598103934665603ULL;
@@ -310,7 +311,7 @@ RunSummary run_ensemble(MPI_Comm comm, const std::string& study_path, const RunO
           simulate(problem, integrator, st.output_times, flags, traj);
           const auto& s = traj.result.stats;
           stats = {static_cast<double>(s.steps), static_cast<double>(s.rhs_evals), static_cast<double>(s.jac_evals),
-                   static_cast<double>(s.nonlin_iters), static_cast<double>(s.error_test_fails),
+                   static_cast<double>(s.jtimes_evals), static_cast<double>(s.nonlin_iters), static_cast<double>(s.error_test_fails),
                    static_cast<double>(s.sens_rhs_evals), static_cast<double>(s.repartitions), s.wall_seconds};
           // An ok sample's message says what it should: stopped by an event, an at_event output NaN.
           message = traj.result.message;
