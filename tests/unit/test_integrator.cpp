@@ -6,6 +6,7 @@
 #include <cvodes/cvodes.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <complex>
@@ -394,6 +395,56 @@ TEST(Integrator, KrylovAndDenseAgree) {
   EXPECT_EQ(krylov.result.linear_solver, ks::LinearSolver::krylov);
   EXPECT_EQ(ks::resolve_linear_solver(ks::LinearSolver::dense, 100000), ks::LinearSolver::dense);
   EXPECT_EQ(ks::resolve_linear_solver(ks::LinearSolver::krylov, 1), ks::LinearSolver::krylov);
+}
+
+namespace {
+// n decoupled decays ẏ_i = −a_i y_i, a_i from 1 to a_max /s (log-spaced): J's spectral radius is
+// a_max.
+class Decays : public ks::OdeProblem {
+ public:
+  Decays(int n, double a_max) : a_(static_cast<std::size_t>(n)) {
+    for (int i = 0; i < n; ++i) a_[static_cast<std::size_t>(i)] = std::pow(a_max, i / (n - 1.0));
+  }
+  int size() const override { return static_cast<int>(a_.size()); }
+  void initial_state(double* y0) const override { std::fill(y0, y0 + size(), 1.0); }
+  void rhs(double, const double* y, double* ydot) override {
+    for (int i = 0; i < size(); ++i) ydot[i] = -a_[static_cast<std::size_t>(i)] * y[i];
+  }
+  bool has_jacobian() const override { return true; }
+  void jacobian(double, const double*, const double*, double* J) override {
+    std::fill(J, J + size() * size(), 0.0);
+    for (int i = 0; i < size(); ++i) J[i + i * size()] = -a_[static_cast<std::size_t>(i)];
+  }
+  bool has_jacobian_times() const override { return true; }
+  void jacobian_times(double, const double*, const double*, const double* v, double* Jv) override {
+    for (int i = 0; i < size(); ++i) Jv[i] = -a_[static_cast<std::size_t>(i)] * v[i];
+  }
+
+ private:
+  std::vector<double> a_;
+};
+}  // namespace
+
+// auto: krylov for a large problem whose Jacobian has a small spectral radius, dense for a small
+// or a stiff one (the radius estimated by power iteration at t0, exact J v or differences).
+TEST(Integrator, AutoLinearSolverBySizeAndStiffness) {
+  const std::vector<double> times{0, 0.1};
+  auto noop = [](int, double, const double*, const double* const*) {};
+  ks::SolverOptions o;
+  for (const ks::JacobianKind j : {ks::JacobianKind::exact, ks::JacobianKind::dq}) {
+    o.jacobian = j;
+    Decays slow(ks::kKrylovMinStates, 0.1 * ks::kKrylovMaxRate), stiff(ks::kKrylovMinStates, 10 * ks::kKrylovMaxRate),
+        small(ks::kKrylovMinStates - 1, 1.0);
+    const ks::IntegrationResult a = ks::integrate(slow, o, times, noop), b = ks::integrate(stiff, o, times, noop),
+                                c = ks::integrate(small, o, times, noop);
+    ASSERT_TRUE(a.ok() && b.ok() && c.ok()) << a.message << b.message << c.message;
+    EXPECT_EQ(a.linear_solver, ks::LinearSolver::krylov);
+    EXPECT_EQ(b.linear_solver, ks::LinearSolver::dense);
+    EXPECT_EQ(c.linear_solver, ks::LinearSolver::dense);
+  }
+  o.method = ks::Method::dop853;
+  Decays slow(ks::kKrylovMinStates, 1.0);
+  EXPECT_EQ(ks::integrate(slow, o, times, noop).linear_solver, ks::LinearSolver::automatic);  // no Newton
 }
 
 // ---------- 2, 3, 4. failures are statuses ----------

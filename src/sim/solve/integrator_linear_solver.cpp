@@ -30,7 +30,8 @@ double Integrator::Impl::jacobian_rate(OdeProblem& problem, double t0) const {
   double growth = 0;
   for (int k = 1; k <= 20; ++k) {
     const double nv = norm(v);
-    if (!(nv > 0) || !std::isfinite(nv)) return 0;
+    if (!std::isfinite(nv)) return std::numeric_limits<double>::infinity();  // dense: the safe choice
+    if (nv == 0) return 0;                                                       // J v = 0: nothing stiff
     for (double& e : v) e /= nv;
     if (exact) {
       problem.jacobian_times(t0, y0.data(), f0.data(), v.data(), w.data());
