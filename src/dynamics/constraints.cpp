@@ -19,6 +19,14 @@ Vec3<S> vec3(const Workspace<S>& ws, const Slot3& s) {
   return {ws.values[s[0]], ws.values[s[1]], ws.values[s[2]]};
 }
 
+// Zeroes row r of A where it can be nonzero (ConstraintSparsity); the rest of A is zero from
+// the workspace's construction on and never written.
+template <class S>
+void clear_row(Workspace<S>& ws, int r) {
+  const ConstraintSparsity& sp = ws.constraint_sparsity;
+  for (int s = sp.closure_start[r]; s < sp.closure_start[r + 1]; ++s) ws.constraint_matrix(r, sp.closure[s]) = S(0);
+}
+
 // A body point's velocity and bias acceleration (u̇ = 0), world components:
 // v = v_Q + ω × o, a = a_Q + α × o + ω × v (o = offset from Q_b).
 template <class S>
@@ -106,7 +114,7 @@ void general_velocity(const Model& m, Workspace<S>& ws, const Constraint& c, int
   in.parameters = p.data();
   in.coordinates = x.data();
   in.time = DualT<S>(ws.time, S(1));
-  for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(row, k) = S(0);
+  clear_row(ws, row);
   S residual = S(0), bias = S(0);
   for (const auto& [k, a] : c.a) {
     const DualT<S> ak = a.evaluate(in);
@@ -173,8 +181,7 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         point_motion(ws, pb, vb, ab);
         const Vec3<S> d = separation(pa, pb);  // pb − pa
         if (c.kind == Constraint::Kind::coincident) {
-          for (int i = 0; i < c.nrows; ++i)
-            for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0 + i, k) = S(0);
+          for (int i = 0; i < c.nrows; ++i) clear_row(ws, r0 + i);
           for_each_point_partial(m, ws, c.body_a, pa.offset, [&](int k, const Vec3<S>& V) {
             for (int i = 0; i < c.nrows; ++i) ws.constraint_matrix(r0 + i, k) += V[c.components[i]];
           });
@@ -192,7 +199,7 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
           const S L = sqrt(d.squaredNorm());
           const Vec3<S> e = d / L;
           const S ed = e.dot(dd);
-          for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0, k) = S(0);
+          clear_row(ws, r0);
           for_each_point_partial(m, ws, c.body_b, pb.offset, [&](int k, const Vec3<S>& V) { ws.constraint_matrix(r0, k) += e.dot(V); });
           for_each_point_partial(m, ws, c.body_a, pa.offset, [&](int k, const Vec3<S>& V) { ws.constraint_matrix(r0, k) -= e.dot(V); });
           ws.position_residual[r0] = L - ws.values[c.length];
@@ -203,7 +210,7 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
       }
       case Constraint::Kind::coupler: {
         const S ratio = ws.values[c.ratio];
-        for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0, k) = S(0);
+        clear_row(ws, r0);
         ws.constraint_matrix(r0, c.speed_a) += S(1);
         ws.constraint_matrix(r0, c.speed_b) -= ratio;
         ws.position_residual[r0] = q[c.coord_a] - ratio * q[c.coord_b] - ws.values[c.offset];
@@ -243,8 +250,7 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         std::array<Vec3<S>, 3> e;
         rolling_plane_basis(n, e[0], e[1]);
         e[2] = n;
-        for (int i = 0; i < 3; ++i)
-          for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0 + i, k) = S(0);
+        for (int i = 0; i < 3; ++i) clear_row(ws, r0 + i);
         for_each_point_partial(m, ws, b, o_P, [&](int k, const Vec3<S>& V) {
           for (int i = 0; i < 3; ++i) ws.constraint_matrix(r0 + i, k) = e[i].dot(V);
         });

@@ -92,6 +92,7 @@ Workspace<S>::Workspace(const Model& m)
                        (2 * constraint_sparsity.envelope_entries < mc * (mc + 1) / 2 ||
                         2 * constraint_sparsity.support_entries < mc * n);
   mass_matrix.setZero();
+  constraint_matrix.setZero();
 }
 
 namespace {
