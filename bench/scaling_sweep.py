@@ -36,20 +36,23 @@ def bench_rhs(exe: Path, scene: Path, repeat: int) -> dict:
     return out
 
 
-def study(exe: Path, n: int, method: str, work: Path, end: float, rtol: float) -> dict:
+def study(exe: Path, n: int, method: str, work: Path, end: float, rtol: float, repeat: int) -> dict:
     scene = work / f"n_four_bar_{n}.yaml"
     st = work / f"n_four_bar_{n}_{method}.yaml"
     scene.write_text(n_four_bar.scene_yaml(n))
     st.write_text(n_four_bar.study_yaml(str(scene), end, 401, method, rtol, 1e-10))
-    p = subprocess.run([str(exe), "simulate", str(st)], capture_output=True, text=True, check=True)
-    d = json.loads(p.stdout)
+    walls = []
+    for _ in range(repeat):
+        p = subprocess.run([str(exe), "simulate", str(st)], capture_output=True, text=True, check=True)
+        d = json.loads(p.stdout)
+        walls.append(d["stats"]["wall_seconds"])
     col = d["state_names"].index("crank0.q")
     times = d["time"]
     phi, _ = n_four_bar.exact_solution(n, times)
     err = max(abs(row[col] - e) for row, e in zip(d["states"], phi))
     s = d["stats"]
     return {"n": n, "method": method, "rtol": rtol, "end": end, "status": d["status"],
-            "wall_seconds": s["wall_seconds"], "steps": s["steps"], "rhs_evals": s["rhs_evals"],
+            "wall_seconds": common.median(walls), "wall_seconds_all": walls, "steps": s["steps"], "rhs_evals": s["rhs_evals"],
             "jac_evals": s.get("jac_evals", 0), "max_error_crank0_q": err}
 
 
@@ -80,8 +83,11 @@ def sweep(a) -> dict:
         for label, exe in exes.items():
             for method in a.methods:
                 common.log("scaling_sweep", f"{label}: study N = {a.study_n}, {method}")
-                studies.append({"build": label, **study(exe, a.study_n, method, work, a.end, a.rtol)})
-    return {"provenance": common.provenance(load0), "repeat": a.repeat, "rhs": rows, "studies": studies}
+                studies.append({"build": label, **study(exe, a.study_n, method, work, a.end, a.rtol, a.study_repeat)})
+    versions = {label: subprocess.run([str(exe), "--version"], capture_output=True, text=True).stdout.splitlines()[0]
+                for label, exe in exes.items()}
+    return {"provenance": common.provenance(load0), "versions": versions, "repeat": a.repeat, "rhs": rows,
+            "studies": studies}
 
 
 def growth(rows, family, build, kind, n0, n1):
@@ -132,6 +138,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--study-n", type=int, default=40)
     ap.add_argument("--methods", nargs="*", default=["bdf", "dop853"])
+    ap.add_argument("--study-repeat", type=int, default=3, help="runs of each study (the median wall time is kept)")
     ap.add_argument("--end", type=float, default=20.0)
     ap.add_argument("--rtol", type=float, default=1e-8)
     ap.add_argument("--out", type=Path, default=common.ROOT / "bench/results/scaling_sweep.json")
