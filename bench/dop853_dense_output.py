@@ -7,7 +7,10 @@ integration (stats.wall_seconds) and of the whole command; accuracy: the largest
 states and of the sensitivities at the output times against a reference run at rtol 1e-13
 (the "before" build, which lands on every output time).
 
-    /usr/bin/python3 bench/dop853_dense_output.py BEFORE_EXE AFTER_EXE [--repeat R] [--out JSON]
+    /usr/bin/python3 bench/dop853_dense_output.py BEFORE_EXE AFTER_EXE [--repeat R] [--out JSON] [--floor]
+
+--floor adds the AFTER build with 2 output times ("floor"): the same steps without the dense
+output's three extra evaluations, the least time any interpolation could cost.
 
 Writes the raw figures to bench/results/dop853_dense_output.json and prints a markdown table.
 """
@@ -28,9 +31,9 @@ ROOT = HERE.parent
 TOLERANCES = [1e-6, 1e-8, 1e-10]
 
 
-def study(rtol: float) -> str:
+def study(rtol: float, outputs: int = 251) -> str:
     return (f"kanesens: 1\nscene: {ROOT / 'configs' / 'nlink_chain_4.yaml'}\n"
-            "time: {end: 10.0, outputs: 251}\n"
+            f"time: {{end: 10.0, outputs: {outputs}}}\n"
             f"solver: {{method: dop853, rtol: {rtol:.1e}, atol: {rtol * 1e-2:.1e}}}\n"
             "sensitivities: [m, L]\n")
 
@@ -53,8 +56,11 @@ def main() -> int:
     ap.add_argument("after")
     ap.add_argument("--repeat", type=int, default=21)
     ap.add_argument("--out", default=str(HERE / "results" / "dop853_dense_output.json"))
+    ap.add_argument("--floor", action="store_true")
     a = ap.parse_args()
     builds = {"before": a.before, "after": a.after}
+    if a.floor:
+        builds["floor"] = a.after
     rows = []
     with tempfile.TemporaryDirectory() as d:
         ref_path = Path(d) / "reference.yaml"
@@ -62,16 +68,17 @@ def main() -> int:
         ref, _ = simulate(a.before, ref_path)
         files = {}
         for rtol in TOLERANCES:
-            p = Path(d) / f"rtol_{rtol:.0e}.yaml"
-            p.write_text(study(rtol))
-            files[rtol] = p
+            for b in builds:
+                p = Path(d) / f"rtol_{rtol:.0e}_{b}.yaml"
+                p.write_text(study(rtol, 2 if b == "floor" else 251))
+                files[(b, rtol)] = p
         integ = {(b, r): [] for b in builds for r in TOLERANCES}
         whole = {(b, r): [] for b in builds for r in TOLERANCES}
         last = {}
         for _ in range(a.repeat):
-            for rtol, p in files.items():
+            for rtol in TOLERANCES:
                 for b, exe in builds.items():
-                    out, w = simulate(exe, p)
+                    out, w = simulate(exe, files[(b, rtol)])
                     integ[(b, rtol)].append(out["stats"]["wall_seconds"])
                     whole[(b, rtol)].append(w)
                     last[(b, rtol)] = out
@@ -85,25 +92,27 @@ def main() -> int:
                     "integration_seconds_median": statistics.median(integ[(b, rtol)]),
                     "command_seconds_median": statistics.median(whole[(b, rtol)]),
                     "integration_seconds": integ[(b, rtol)],
-                    "max_state_error": max_error(out, ref, "states"),
-                    "max_sensitivity_error": max_error(out, ref, "sensitivities"),
+                    "max_state_error": None if b == "floor" else max_error(out, ref, "states"),
+                    "max_sensitivity_error": None if b == "floor" else max_error(out, ref, "sensitivities"),
                 })
     result = {
-        "command": " ".join(["bench/dop853_dense_output.py", a.before, a.after, "--repeat", str(a.repeat)]),
+        "command": " ".join(["bench/dop853_dense_output.py", a.before, a.after, "--repeat", str(a.repeat)]
+                            + (["--floor"] if a.floor else [])),
         "revision": c.git_revision(), "cpu": c.cpu_model(), "nproc": c.nproc(), "loadavg": c.loadavg(),
         "study": "configs/nlink_chain_4.yaml, 10 s, 251 output times, dop853, atol = 1e-2 rtol, "
                  "sensitivities to m and L; reference: the before build at rtol 1e-13",
         "rows": rows,
     }
     Path(a.out).write_text(json.dumps(result, indent=2) + "\n")
-    print("| rtol | build | steps | rhs evals | integration s (median) | ratio after/before | max state error | max sensitivity error |")
+    print("| rtol | build | steps | rhs evals | integration s (median) | ratio to before | max state error | max sensitivity error |")
     print("|---|---|---|---|---|---|---|---|")
     for rtol in TOLERANCES:
-        b, f = (next(r for r in rows if r["rtol"] == rtol and r["build"] == x) for x in ("before", "after"))
-        for r in (b, f):
+        b = next(r for r in rows if r["rtol"] == rtol and r["build"] == "before")
+        for r in (r for r in rows if r["rtol"] == rtol):
             ratio = r["integration_seconds_median"] / b["integration_seconds_median"]
+            err = (lambda e: "—" if e is None else f"{e:.1e}")
             print(f"| {rtol:.0e} | {r['build']} | {r['steps']} | {r['rhs_evals']} | {r['integration_seconds_median']:.4f} | "
-                  f"{ratio:.2f} | {r['max_state_error']:.1e} | {r['max_sensitivity_error']:.1e} |")
+                  f"{ratio:.2f} | {err(r['max_state_error'])} | {err(r['max_sensitivity_error'])} |")
     return 0
 
 

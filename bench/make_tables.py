@@ -115,6 +115,18 @@ def sensitivity_cost():
     return printed(m.table, RESULTS / "sensitivity_cost.json") + source(RESULTS / "sensitivity_cost.json")
 
 
+def sensitivity_cost_few():
+    import sensitivity_cost as m
+    path = RESULTS / "sensitivity_cost_few.json"
+    return printed(m.table, path) + source(path)
+
+
+def sensitivity_cost_few_constrained():
+    import sensitivity_cost as m
+    path = RESULTS / "sensitivity_cost_few_constrained.json"
+    return printed(m.table, path) + source(path)
+
+
 def multitangent():
     import multitangent_table as m
     return printed(m.table, RESULTS / "multitangent_kernels.json") + source(RESULTS / "multitangent_kernels.json")
@@ -741,7 +753,8 @@ def _ratio_from_cell(cell: str):
 
 TABLES = {
     "rhs_mujoco": rhs_mujoco, "rhs_paths": rhs_paths, "jacobian_cost": jacobian_cost,
-    "sensitivity_cost": sensitivity_cost, "multitangent": multitangent, "outputs_cost": outputs_cost,
+    "sensitivity_cost": sensitivity_cost, "sensitivity_cost_few": sensitivity_cost_few,
+    "sensitivity_cost_few_constrained": sensitivity_cost_few_constrained, "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivities": sensitivities_table, "constraints": constraints_table, "ensemble": ensemble_table,
     "peers_summary": peers_summary,
     "sympy_derivation": sympy_derivation, "sympy_reference": sympy_reference, "sympy_tta": sympy_tta,

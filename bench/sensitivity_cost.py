@@ -1,8 +1,11 @@
 #!/usr/bin/python3
 """Cost of forward sensitivities: `kanesens simulate` with and without Ns sensitivities.
 
-  sensitivity_cost.py OUT.json LABEL=EXE [LABEL=EXE ...] [--runs K] [--scenes a,b]
+  sensitivity_cost.py OUT.json LABEL=EXE [LABEL=EXE ...] [--runs K] [--scenes a,b] [--methods m,n]
+                      [--ns 1,2,6]
   sensitivity_cost.py --table OUT.json
+
+--ns: the first Ns of each scene's sensitivities, for each Ns given (default: all of them).
 
 For every scene, method and executable: K runs of the plain solve and K runs with the Ns
 sensitivities, all interleaved (plain, sens, next executable, ...) so that machine load hits
@@ -60,15 +63,17 @@ def run(exe, study, method, sens, extra):
     return d["stats"]["wall_seconds"], d["stats"]
 
 
-def measure(out, exes, runs, scenes, extra):
-    result = {"runs": runs, "rows": []}
+def measure(out, exes, runs, scenes, extra, methods_only=None, counts=None):
+    result = {"command": "/usr/bin/python3 bench/sensitivity_cost.py " + " ".join(sys.argv[1:]), "runs": runs, "rows": []}
     with tempfile.TemporaryDirectory() as tmp:
         for name in scenes:
-            text, sens, methods = SCENES[name]
+            text, all_sens, methods = SCENES[name]
             study = os.path.join(tmp, name + ".yaml")
             with open(study, "w") as f:
                 f.write(text.format(root=ROOT))
-            for method in methods:
+            for method, ns in [(m, k) for m in methods if not methods_only or m in methods_only
+                               for k in (counts or [len(all_sens.split(","))])]:
+                sens = ",".join(all_sens.split(",")[:ns])
                 times = {label: {"plain": [], "sens": []} for label, _ in exes}
                 stats = {}
                 for _ in range(runs):
@@ -82,7 +87,7 @@ def measure(out, exes, runs, scenes, extra):
                            "sensitivities": sens, "plain_s": times[label]["plain"], "sens_s": times[label]["sens"],
                            "stats_plain": stats[(label, "plain")], "stats_sens": stats[(label, "sens")]}
                     result["rows"].append(row)
-                    print(name, method, label, f"{min(row['plain_s'])*1e3:.2f} ms",
+                    print(name, method, label, row["ns"], f"{min(row['plain_s'])*1e3:.2f} ms",
                           f"{per_added(row):.2f}", file=sys.stderr)
     with open(out, "w") as f:
         json.dump(result, f, indent=1)
@@ -98,11 +103,11 @@ def table(path):
         r = json.load(f)
     print(f"Minimum (median) of {r['runs']} interleaved runs; per added sensitivity = "
           "(t_sens − t_plain) / (Ns · t_plain).\n")
-    print("| scene | method | build | plain solve (ms) | with Ns sensitivities (ms) | per added sensitivity | steps plain / sens |")
-    print("|---|---|---|---:|---:|---:|---:|")
+    print("| scene | method | build | Ns | plain solve (ms) | with Ns sensitivities (ms) | per added sensitivity | steps plain / sens |")
+    print("|---|---|---|---:|---:|---:|---:|---:|")
     for row in r["rows"]:
         tp, ts = row["plain_s"], row["sens_s"]
-        print(f"| {row['scene']} | {row['method']} | {row['exe']} | {min(tp)*1e3:.2f} ({statistics.median(tp)*1e3:.2f}) | "
+        print(f"| {row['scene']} | {row['method']} | {row['exe']} | {row['ns']} | {min(tp)*1e3:.2f} ({statistics.median(tp)*1e3:.2f}) | "
               f"{min(ts)*1e3:.2f} ({statistics.median(ts)*1e3:.2f}) | {per_added(row):.2f}x ({per_added(row, statistics.median):.2f}x) | "
               f"{row['stats_plain']['steps']} / {row['stats_sens']['steps']} |")
 
@@ -114,7 +119,7 @@ if __name__ == "__main__":
         sys.exit(0)
     if len(argv) < 2:
         sys.exit(__doc__)
-    runs, scenes, extra = 7, list(SCENES), []
+    runs, scenes, extra, methods, counts = 7, list(SCENES), [], None, None
     out, rest = argv[0], []
     i = 1
     while i < len(argv):
@@ -122,10 +127,14 @@ if __name__ == "__main__":
             runs = int(argv[i + 1]); i += 2
         elif argv[i] == "--scenes":
             scenes = argv[i + 1].split(","); i += 2
+        elif argv[i] == "--methods":
+            methods = argv[i + 1].split(","); i += 2
+        elif argv[i] == "--ns":
+            counts = [int(k) for k in argv[i + 1].split(",")]; i += 2
         elif argv[i] == "--set":
             extra += ["--set", argv[i + 1]]; i += 2
         else:
             rest.append(argv[i]); i += 1
     exes = [tuple(a.split("=", 1)) for a in rest]
-    measure(out, exes, runs, scenes, extra)
+    measure(out, exes, runs, scenes, extra, methods, counts)
     table(out)

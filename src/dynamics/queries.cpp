@@ -7,6 +7,7 @@
 #include "dynamics/force_elements.hpp"
 #include "dynamics/frames.hpp"
 #include "math/dual.hpp"
+#include "math/dual2.hpp"
 
 namespace kanesens::dynamics {
 
@@ -243,6 +244,7 @@ ForceElementState<S> force_element_state(const Model& m, const Workspace<S>& ws,
   template ForceElementState<S> force_element_state<S>(const Model&, const Workspace<S>&, int);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::Dual2)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

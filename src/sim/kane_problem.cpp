@@ -232,6 +232,10 @@ void KaneProblem::jacobian(double t, const double* y, const double*, double* J) 
 void KaneProblem::sensitivity_rhs_all(double t, const double* y, const double*, int, const double* const* s,
                                       double* const* sdot) {
   const int n = size();
+  if (single_tangent()) {
+    for (int i = 0; i < num_sensitivities(); ++i) sensitivity_rhs(t, y, nullptr, i, s[i], sdot[i]);
+    return;
+  }
   sensitivity_blocks_.for_each([&](auto& b) {
     for (int r = 0; r < n; ++r) {
       b.y[r].v = y[r];
@@ -251,6 +255,12 @@ void KaneProblem::rhs_with_sensitivities(double t, const double* y, int ns, cons
     return;
   }
   sensitivity_rhs_all(t, y, nullptr, ns, s, sdot);
+  if (single_tangent()) {
+    for (int r = 0; r < size(); ++r) ydot[r] = ydot_dual_[r].v;
+    if (embedded_ && (sc_dual_->conditioning > 1e10 || sc_dual_->amplification > 1e12))
+      throw RecoverableError(embedding_failure(t, "have (nearly) lost rank"));
+    return;
+  }
   bool first = true;
   sensitivity_blocks_.for_each([&](auto& b) {
     if (!first) return;

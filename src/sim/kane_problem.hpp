@@ -65,7 +65,7 @@ class KaneProblem final : public OdeProblem {
   void sensitivity_rhs(double t, const double* y, const double* ydot, int i, const double* s,
                        double* sdot) override;
   // All sensitivities in multi-tangent passes (blocks of up to 16), and with f from the first
-  // pass (DOP853's stages).
+  // pass (DOP853's stages); up to kSingleTangentPasses of them in single-tangent passes instead.
   void sensitivity_rhs_all(double t, const double* y, const double* ydot, int ns, const double* const* s,
                            double* const* sdot) override;
   void rhs_with_sensitivities(double t, const double* y, int ns, const double* const* s, double* ydot,
@@ -167,6 +167,10 @@ class KaneProblem final : public OdeProblem {
   int jacobian_blocks_size_ = -1;
   template <int W>
   void evaluate_block(TangentBlock<W>& b, double t);
+  // Few sensitivities: one Dual pass each costs less than a block of the narrowest compiled
+  // width (4) with idle lanes.
+  static constexpr int kSingleTangentPasses = 2;
+  bool single_tangent() const { return num_sensitivities() <= kSingleTangentPasses; }
   // The embedding could not evaluate: rank lost (the rows named) or M not positive definite.
   template <class Scratch>
   [[noreturn]] void throw_embedding_failure(const Scratch& sc, double t) const;

@@ -2,6 +2,7 @@
 
 #include "dynamics/equations.hpp"
 #include "math/dual.hpp"
+#include "math/dual2.hpp"
 
 namespace kanesens::sim {
 
@@ -109,6 +110,7 @@ void evaluate_scalar_expressions(const OutputPlan& plan, const S* parameters, S*
   template void evaluate_scalar_expressions<S>(const OutputPlan&, const S*, S*);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(math::Dual)
+KANESENS_INSTANTIATE(math::Dual2)  // the derivatives of extrema's times (sim/output_events.cpp)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::sim

@@ -3,6 +3,7 @@
 // integral/mean/rms as the solver's quadratures (an OdeQuadrature), and the final scalars.
 // One per thread; reused across samples (start() resets it). simulate() drives it.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -90,8 +91,14 @@ class OutputEvaluator final : public OdeQuadrature {
   // At a root of extremum j's rate, or at an end (end: dτ/dp of a moving end, or null): a candidate.
   void take_extremum(std::size_t j, double t, const double* y, const double* const* s, bool root,
                      const double* end_dtau);
-  // dt*/dp_i (ns, into dtau_) at a root t* of the rate of extremum j's series: −(d s_out/dt)/(d²y_out/dt²).
+  // dt*/dp_i (ns, into dtau_) at a root t* of the rate r = ẏ_out of extremum j's series:
+  // −(∂r/∂p_i)/(dr/dt), the event-time formula applied to r, from second-order dual numbers.
   void argextremum_tangents(std::size_t j, double t, const double* y, const double* const* s);
+  // The derivative of the rate of the series in `slot` (at y_full_, t) along the direction
+  // (dt, dy on the full state, the parameter tangents of `ws`): one pass of the equations of
+  // motion on Dual for ẏ and its derivative, one of the extrema's program on Dual2.
+  double rate_derivative(int slot, double t, double dt, const double* dy, dynamics::Workspace<math::Dual>& ws,
+                         int parameter);
 
   // Tangent i of `program` into tangents_ (values_ must hold the values at the same state).
   void evaluate_tangent(const OutputProgram& program, int i, double t, const double* y, const double* s);
@@ -113,9 +120,13 @@ class OutputEvaluator final : public OdeQuadrature {
   std::vector<double> dtau_;                      // ns: an event time's sensitivities
   std::vector<double> best_;                      // per extremum: its series' best value so far
   std::vector<double> occurrence_times_, occurrence_tangents_;  // nevent × W, nevent × W × ns
-  std::vector<double> y_shift_, sdot_, s_shift_;  // argextremum_tangents: y + δẏ, ṡ (ns × n), s + δṡ
-  std::vector<const double*> sdot_in_;            // ns pointers into s_shift_
-  std::vector<double*> sdot_out_;                 // ns pointers into sdot_
+  // argextremum_tangents' Dual2 workspace and scratch (sim/output_events.cpp), made at the first
+  // argextremum with sensitivities.
+  struct SecondOrder;
+  struct SecondOrderDeleter {
+    void operator()(SecondOrder* p) const;
+  };
+  std::unique_ptr<SecondOrder, SecondOrderDeleter> second_;
 };
 
 }  // namespace kanesens::sim

@@ -4,14 +4,19 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
 #include "sim/output_evaluator.hpp"
 
+#include "dynamics/equations.hpp"
+#include "math/dual2.hpp"
+
 namespace kanesens::sim {
 
 using math::Dual;
+using math::Dual2;
 
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -129,49 +134,57 @@ void OutputEvaluator::take_extremum(std::size_t j, double t, const double* y, co
         root ? dtau_[static_cast<std::size_t>(k)] : end_dtau ? end_dtau[k] : 0.0;
 }
 
+struct OutputEvaluator::SecondOrder {
+  explicit SecondOrder(const model::Model& m, int nvalues)
+      : ws(m), scratch(m), values(static_cast<std::size_t>(nvalues)), y(static_cast<std::size_t>(m.nstate())),
+        p(static_cast<std::size_t>(m.nparam())), y1(y.size()), f1(y.size()) {}
+  dynamics::Workspace<Dual2> ws;
+  OutputScratch<Dual2> scratch;
+  std::vector<Dual2> values, y, p;
+  std::vector<Dual> y1, f1;
+};
+
+void OutputEvaluator::SecondOrderDeleter::operator()(SecondOrder* p) const { delete p; }
+
 void OutputEvaluator::argextremum_tangents(std::size_t j, double t, const double* y, const double* const* s) {
-  // t* is a root of r = ẏ_out, so dt*/dp = −(∂r/∂p at fixed t)/ṙ = −(d s_out/dt)/(d ẏ_out/dt).
-  // Both are time derivatives along the solution of quantities evaluated exactly by dual numbers
-  // (ẏ_out and s_out); they are differentiated along the solution's tangent (1, ẏ, ṡ) by a
-  // fourth-order central difference, which needs no second derivatives of the model.
+  // t* is a root of r(t, p) = ġ_out = ∂g/∂t + ∂g/∂y·ẏ, so dt*/dp = −(∂r/∂p)/(dr/dt): the event-time
+  // formula applied to r. Both are second derivatives of g along the solution. The solution in
+  // full coordinates obeys ẏ = F(t, y, p), the equations of motion in multiplier form (also when
+  // the embedding integrates it: they give the same u̇ where the speeds satisfy the constraints),
+  // so r is a function of (t, y, p) and its derivative along a direction (δt, δy, δp) is exact on
+  // Dual2 — the outer tangent (δt, δy, δp) and F's derivative along it, the inner (1, F).
   const OutputNode& n = plan_.nodes[static_cast<std::size_t>(plan_.extremum_nodes[j])];
   const int of = plan_.nodes[static_cast<std::size_t>(n.of)].slot;
-  const std::size_t nint = static_cast<std::size_t>(problem_.size()), ns = static_cast<std::size_t>(ns_);
-  ydot_.resize(nint);
-  problem_.rhs(t, y, ydot_.data());
-  const std::vector<double> ydot0 = ydot_;
-  sdot_.resize(ns * nint);
-  s_shift_.resize(ns * nint);
-  y_shift_.resize(nint);
-  sdot_out_.resize(ns);
-  sdot_in_.resize(ns);
-  for (std::size_t k = 0; k < ns; ++k) {
-    sdot_out_[k] = &sdot_[k * nint];
-    sdot_in_[k] = &s_shift_[k * nint];
+  if (!second_) second_.reset(new SecondOrder(model_, plan_.nvalues));
+  full_at(t, y, s);
+  SampleWorkspaces& ws = problem_.workspaces();
+  ydot_full_.resize(static_cast<std::size_t>(model_.nstate()));
+  if (!dynamics::evaluate_rhs(model_, ws.values(), t, y_full_.data(), ydot_full_.data(), problem_.dynamics_options()))
+    throw std::runtime_error("outputs: mass matrix is not positive definite at t = " + std::to_string(t));
+  const double rdot = rate_derivative(of, t, 1.0, ydot_full_.data(), ws.jacobian(), -1);
+  for (int k = 0; k < ns_; ++k) {
+    const InputRef& ref = problem_.sensitivities()[static_cast<std::size_t>(k)];
+    const double drdp = rate_derivative(of, t, 0.0, s_full_[static_cast<std::size_t>(k)].data(), ws.tangent(k),
+                                        ref.kind == InputRef::Kind::parameter ? ref.index : -1);
+    dtau_[static_cast<std::size_t>(k)] = rdot != 0 ? -drdp / rdot : kNaN;
   }
-  problem_.sensitivity_rhs_all(t, y, ydot0.data(), ns_, s, sdot_out_.data());
-  std::vector<double> B(ns);
-  auto along = [&](double d) {  // ẏ_out at t + d on the tangent line; s_out into B
-    for (std::size_t r = 0; r < nint; ++r) y_shift_[r] = y[r] + d * ydot0[r];
-    for (std::size_t k = 0; k < ns; ++k)
-      for (std::size_t r = 0; r < nint; ++r) s_shift_[k * nint + r] = s[k][r] + d * sdot_[k * nint + r];
-    rates(plan_.extrema, t + d, y_shift_.data());
-    const double a = dual_values_[static_cast<std::size_t>(of)].d;
-    full_at(t + d, y_shift_.data(), sdot_in_.data());
-    evaluate(plan_.extrema, t + d, y_full_.data(), s_full_ptr_.data());
-    for (std::size_t k = 0; k < ns; ++k) B[k] = tangent(of, static_cast<int>(k));
-    return a;
-  };
-  const double h = 1e-5 * std::max(1.0, std::abs(t));
-  const double weights[4] = {-1, 8, -8, 1}, steps[4] = {2 * h, h, -h, -2 * h};
-  double adot = 0;
-  std::vector<double> bdot(ns, 0.0);
-  for (int m = 0; m < 4; ++m) {
-    adot += weights[m] * along(steps[m]);
-    for (std::size_t k = 0; k < ns; ++k) bdot[k] += weights[m] * B[k];
-  }
-  // (−f(2h) + 8 f(h) − 8 f(−h) + f(−2h)) / (12 h); the common factor cancels in the ratio.
-  for (std::size_t k = 0; k < ns; ++k) dtau_[k] = adot != 0 ? -bdot[k] / adot : kNaN;
+}
+
+double OutputEvaluator::rate_derivative(int slot, double t, double dt, const double* dy,
+                                        dynamics::Workspace<Dual>& ws, int parameter) {
+  SecondOrder& so = *second_;
+  const std::size_t nstate = static_cast<std::size_t>(model_.nstate());
+  for (std::size_t r = 0; r < nstate; ++r) so.y1[r] = Dual(y_full_[r], dy[r]);
+  if (!dynamics::evaluate_rhs(model_, ws, Dual(t, dt), so.y1.data(), so.f1.data(), problem_.dynamics_options()))
+    throw std::runtime_error("outputs: mass matrix is not positive definite at t = " + std::to_string(t));
+  const std::vector<double>& p = problem_.workspaces().parameters();
+  for (std::size_t i = 0; i < p.size(); ++i) so.p[i] = Dual2(Dual(p[i], static_cast<int>(i) == parameter ? 1.0 : 0.0));
+  dynamics::set_parameters(model_, so.ws, so.p.data());
+  for (std::size_t r = 0; r < nstate; ++r) so.y[r] = Dual2(so.y1[r], so.f1[r]);
+  if (!evaluate_series(plan_, plan_.extrema, model_, so.ws, problem_.dynamics_options(), Dual2(Dual(t, dt), Dual(1.0)),
+                       so.y.data(), so.values.data(), so.scratch))
+    throw std::runtime_error("outputs: mass matrix is not positive definite at t = " + std::to_string(t));
+  return so.values[static_cast<std::size_t>(slot)].d.d;
 }
 
 int OutputEvaluator::Events::direction(int i) const {

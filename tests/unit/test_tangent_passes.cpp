@@ -1,5 +1,5 @@
 // The solvers' Jacobian and sensitivity right-hand sides come from multi-tangent passes (blocks
-// of 8 and 4 directions). They must equal, direction by direction, what one single-tangent Dual
+// of 8 and 4 directions; one or two sensitivities from single-tangent passes). They must equal, direction by direction, what one single-tangent Dual
 // pass per direction gives (the form the finite-difference and closed-form tests validate), on
 // scenes that take every path: planar and 3-D trees, quaternions, multipliers with projection,
 // the embedding, rolling with Baumgarte terms; and they must not allocate.
@@ -44,6 +44,9 @@ std::vector<Case> cases() {
       {"four_bar.yaml", {"r", "c", "b", "m1", "m2", "m3"}, with(F::embedding, St::projection)},
       {"rolling_disc.yaml", {"m", "r", "base.u0[0]"}, with(F::multipliers, St::baumgarte)},
       {"andrews.yaml", {"m1", "c0", "xa", "I7"}, with(F::multipliers, St::projection)},
+      // One or two sensitivities: single-tangent passes (KaneProblem::kSingleTangentPasses).
+      {"arm_3d.yaml", {"k_tele"}, {}},
+      {"four_bar.yaml", {"c", "m2"}, with(F::embedding, St::projection)},
   };
 }
 
@@ -114,6 +117,22 @@ TEST(TangentPasses, JacobianAndSensitivitiesMatchSingleTangentPasses) {
                                    one[static_cast<std::size_t>(i)][static_cast<std::size_t>(r)]));
       EXPECT_LT(e2 / sc, 1e-12) << "sensitivity " << c.sensitivities[static_cast<std::size_t>(i)];
     }
+    // f and the sensitivities from one call (DOP853's stages): f as rhs() gives it.
+    std::vector<double> f(static_cast<std::size_t>(n));
+    std::vector<std::vector<double>> both(s);
+    std::vector<double*> bp;
+    for (auto& v : both) bp.push_back(v.data());
+    p.rhs_with_sensitivities(0.1, y.data(), ns, sp.data(), f.data(), bp.data());
+    double fscale = 1, ferr = 0, serr = 0;
+    for (int r = 0; r < n; ++r) {
+      fscale = std::max(fscale, std::abs(ydot[static_cast<std::size_t>(r)]));
+      ferr = std::max(ferr, std::abs(f[static_cast<std::size_t>(r)] - ydot[static_cast<std::size_t>(r)]));
+      for (int i = 0; i < ns; ++i)
+        serr = std::max(serr, std::abs(both[static_cast<std::size_t>(i)][static_cast<std::size_t>(r)] -
+                                       all[static_cast<std::size_t>(i)][static_cast<std::size_t>(r)]));
+    }
+    EXPECT_LT(ferr / fscale, 1e-13) << "f of rhs_with_sensitivities";
+    EXPECT_EQ(serr, 0.0) << "sensitivities of rhs_with_sensitivities";
   }
 }
 
