@@ -111,7 +111,8 @@ std::vector<Case> cases() {
           {"chain_tilted", test_scenes::chain_scene(8, 0.1)},
           {"spherical", test_scenes::kSphericalScene},
           {"free", test_scenes::kFreeScene},
-          {"forces", test_scenes::kForcesScene}};
+          {"forces", test_scenes::kForcesScene},
+          {"n_four_bar", test_scenes::n_four_bar(6)}};  // the tree factor and the sparse constraint solve
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "math/multi_dual.hpp"
 #include "model/build_model.hpp"
 #include "model/scene/parse_scene.hpp"
+#include "test_scenes.hpp"
 
 namespace kanesens {
 namespace {
@@ -26,28 +27,6 @@ using math::MultiDual;
 using model::Model;
 
 Model build(const std::string& text) { return model::build_model(model::parse_scene_text(text, "scene.yaml")); }
-
-// bench/n_four_bar.py's scene: N+1 cranks on the ground, coupler i on crank i's tip, closed onto
-// crank i+1's tip.
-std::string n_four_bar(int n) {
-  std::string s =
-      "kanesens: 1\nscene:\n  name: n_four_bar\n  gravity: [0, -9.81, 0]\n"
-      "  parameters: {L: 1.0, m: 1.0}\n  bodies:\n";
-  for (int i = 0; i <= n; ++i) s += "    - {name: crank" + std::to_string(i) + ", mass: m, inertia: {shape: rod, length: L, axis: x}}\n";
-  for (int i = 0; i < n; ++i) s += "    - {name: coupler" + std::to_string(i) + ", mass: m, inertia: {shape: rod, length: L, axis: x}}\n";
-  s += "  joints:\n";
-  for (int i = 0; i <= n; ++i)
-    s += "    - {name: crank" + std::to_string(i) + ", type: revolute, parent: ground, child: crank" + std::to_string(i) +
-         ", axis: [0, 0, 1], parent_point: [\"" + std::to_string(i) + "*L\", 0, 0], child_point: [\"-L/2\", 0, 0]}\n";
-  for (int i = 0; i < n; ++i)
-    s += "    - {name: coupler" + std::to_string(i) + ", type: revolute, parent: crank" + std::to_string(i) + ", child: coupler" +
-         std::to_string(i) + ", axis: [0, 0, 1], parent_point: [\"L/2\", 0, 0], child_point: [\"-L/2\", 0, 0]}\n";
-  s += "  constraints:\n";
-  for (int i = 0; i < n; ++i)
-    s += "    - {name: loop" + std::to_string(i) + ", type: coincident, body_a: coupler" + std::to_string(i) +
-         ", point_a: [\"L/2\", 0, 0], body_b: crank" + std::to_string(i + 1) + ", point_b: [\"L/2\", 0, 0]}\n";
-  return s;
-}
 
 // A 3-D tree with three branches on a ball-jointed torso, closed by a distance between two branch
 // tips and a coincident of the third tip with a ground point.
@@ -163,7 +142,7 @@ std::vector<double> four_bar_state(const Model& m, int n, double phi, double rat
 }
 
 TEST(SparseDynamics, ModelCarriesTheSpeedTree) {
-  const Model m = build(n_four_bar(3));
+  const Model m = build(test_scenes::n_four_bar(3));
   // Cranks 0..3 are speeds 0..3 (roots); coupler i (speed 4 + i) hangs from crank i.
   EXPECT_EQ(m.speed_parent, (std::vector<int>{-1, -1, -1, -1, 0, 1, 2}));
   ASSERT_EQ(m.speed_order.size(), 7u);
@@ -181,10 +160,13 @@ TEST(SparseDynamics, ModelCarriesTheSpeedTree) {
 }
 
 TEST(SparseDynamics, FourBarWorkspaceChoosesTheSparsePaths) {
-  const Model m = build(n_four_bar(10));
+  const Model m = build(test_scenes::n_four_bar(10));
   Workspace<double> ws(m);
   EXPECT_TRUE(ws.tree_factor);
   EXPECT_TRUE(ws.sparse_constraints);
+  const Model m6 = build(test_scenes::n_four_bar(6));  // test_no_allocation's scene
+  Workspace<double> w6(m6);
+  EXPECT_TRUE(w6.sparse_constraints);
   // Loop i touches crank i, coupler i, crank i+1: the envelope is a band.
   const auto& sp = ws.constraint_sparsity;
   for (int i = 0; i < m.nconstraint_rows; ++i) {
@@ -208,7 +190,7 @@ class FourBarPaths : public ::testing::TestWithParam<std::tuple<int, bool>> {};
 
 TEST_P(FourBarPaths, SparseEqualsDense) {
   const auto [n, general_3d] = GetParam();
-  Model m = build(n_four_bar(n));
+  Model m = build(test_scenes::n_four_bar(n));
   m.force_general_3d = general_3d;
   std::mt19937 rng(static_cast<unsigned>(7 + n));
   struct Case {
@@ -287,7 +269,7 @@ void expect_embedding_agrees(const Model& m, const std::vector<double>& y, int s
 
 TEST(SparseDynamics, EmbeddingBandedLuAgreesWithMultipliers) {
   for (int n : {1, 3, 12}) {
-    const Model m = build(n_four_bar(n));
+    const Model m = build(test_scenes::n_four_bar(n));
     std::mt19937 rng(5);
     const std::vector<double> y = four_bar_state(m, n, 0.7, -1.4, 0.0, rng);
     expect_embedding_agrees<double>(m, y, 0, "N = " + std::to_string(n));
