@@ -27,7 +27,7 @@ sys.path.insert(0, str(HERE))
 
 DOCS = [ROOT / "docs" / "benchmarks.md", ROOT / "docs" / "peers.md", ROOT / "docs" / "workprecision.md",
         ROOT / "docs" / "explanation" / "stability.md", ROOT / "docs" / "explanation" / "constraints.md",
-        ROOT / "docs" / "explanation" / "solvers.md"]
+        ROOT / "docs" / "explanation" / "solvers.md", ROOT / "docs" / "explanation" / "sparsity.md"]
 RESULTS = HERE / "results"
 PEERS = ROOT / "docs" / "peers"
 WP = ROOT / "docs" / "workprecision"
@@ -736,6 +736,44 @@ def contact_drift():
             + f"\n<sub>From `{rel(CHOICE)}` (`{d['command']}`).</sub>\n")
 
 
+def _us(v) -> str:
+    return f"{v:,.0f}" if v >= 100 else f"{v:.1f}"
+
+
+def scaling_sweep():
+    """N four-bar: constrained and embedding RHS and the exact Jacobian, dense (before) and sparse (after)."""
+    p = RESULTS / "scaling_sweep.json"
+    d = load(p)
+    by = {(r["n"], r["build"]): r for r in d["rhs"] if r["family"] == "n_four_bar"}
+    kinds = ["rhs_multipliers", "rhs_embedding", "mass_matrix_and_forcing", "jacobian"]
+    rows = []
+    for n in sorted({n for n, _ in by}):
+        a, b = by.get((n, "after")), by.get((n, "before"))
+        cells = [f"{n} ({a['nu']})"]
+        for k in kinds:
+            before = _us(b[k + "_us"]) if b else "—"
+            cells.append(f"{before} → {_us(a[k + '_us'])}")
+        rows.append(cells)
+    g = d["growth_per_doubling_20_to_80"]
+    rows.append(["growth per doubling, N = 20 → 80"] + [f"{g[k]:.1f}×" for k in kinds])
+    return (md(["N (speeds)", "constrained RHS", "embedding RHS", "M and f", "exact Jacobian"], rows,
+               ["---", "---:", "---:", "---:", "---:"])
+            + f"\n<sub>Median µs per evaluation, before → after; from `{rel(p)}` (`{d['provenance']['command']}`).</sub>\n")
+
+
+def scaling_study():
+    """The 20-second N = 40 study: wall time, steps and error against the exact solution."""
+    p = RESULTS / "scaling_sweep.json"
+    d = load(p)
+    rows = [[s["method"], s["build"], f"{s['wall_seconds']:.2f}", f"{s['steps']:,}", f"{s['rhs_evals']:,}",
+             f"{s['jac_evals']}", f"{s['max_error_crank0_q']:.1e}"] for s in d["studies"]]
+    rows.sort(key=lambda r: (r[0], r[1] != "before"))
+    s0 = d["studies"][0]
+    return (md(["method", "build", "median wall time (s)", "steps", "RHS", "Jacobians", "max error of crank0.q"], rows,
+               ["---", "---", "---:", "---:", "---:", "---:", "---:"])
+            + f"\n<sub>N = {s0['n']}, {s0['end']:g} s, rtol {s0['rtol']:g}, projection; from `{rel(p)}`.</sub>\n")
+
+
 def _table_column(table: str, col: int):
     lines = [l for l in table.splitlines() if l.startswith("|")][2:]
     return [l.strip("|").split("|")[col].strip() for l in lines]
@@ -762,6 +800,7 @@ TABLES = {
     "stab_chaos": stab_chaos, "stab_lyapunov": stab_lyapunov, "stab_quaternion": stab_quaternion,
     "stab_constrained": stab_constrained,
     "constraint_drift": constraint_drift, "constraints_choice": constraints_choice, "contact_drift": contact_drift,
+    "scaling_sweep": scaling_sweep, "scaling_study": scaling_study,
 }
 
 

@@ -1,15 +1,12 @@
-// Constraints Σ_k a_jk(q,t) u_k + a_j0(q,t) = 0 and the augmented solve with Lagrange
-// multipliers (docs/explanation/constraints.md):
-//     M u̇ = f + Aᵀλ,   A u̇ = −(Ȧu + ȧ0)  =: b
-// solved as u̇ = M⁻¹f + M⁻¹Aᵀλ with (A M⁻¹ Aᵀ) λ = b − A M⁻¹ f. A M⁻¹ Aᵀ is factored by a
-// pivoted Cholesky; when constraints are redundant (rank r < m) λ is the minimum-norm solution.
+// Constraints Σ_k a_jk(q,t) u_k + a_j0(q,t) = 0 (docs/explanation/constraints.md): the rows of
+// A, their residuals and the bias −(Ȧu + ȧ0). The solve with multipliers is in
+// dynamics/constraint_solve.cpp.
 #include <array>
 #include <cmath>
 
 #include "math/dual.hpp"
 #include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
-#include "math/cholesky.hpp"
 #include "dynamics/equations.hpp"
 #include "dynamics/frames.hpp"
 #include "math/planar.hpp"
@@ -20,6 +17,14 @@ namespace {
 template <class S>
 Vec3<S> vec3(const Workspace<S>& ws, const Slot3& s) {
   return {ws.values[s[0]], ws.values[s[1]], ws.values[s[2]]};
+}
+
+// Zeroes row r of A where it can be nonzero (ConstraintSparsity); the rest of A is zero from
+// the workspace's construction on and never written.
+template <class S>
+void clear_row(Workspace<S>& ws, int r) {
+  const ConstraintSparsity& sp = ws.constraint_sparsity;
+  for (int s = sp.closure_start[r]; s < sp.closure_start[r + 1]; ++s) ws.constraint_matrix(r, sp.closure[s]) = S(0);
 }
 
 // A body point's velocity and bias acceleration (u̇ = 0), world components:
@@ -109,7 +114,7 @@ void general_velocity(const Model& m, Workspace<S>& ws, const Constraint& c, int
   in.parameters = p.data();
   in.coordinates = x.data();
   in.time = DualT<S>(ws.time, S(1));
-  for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(row, k) = S(0);
+  clear_row(ws, row);
   S residual = S(0), bias = S(0);
   for (const auto& [k, a] : c.a) {
     const DualT<S> ak = a.evaluate(in);
@@ -176,8 +181,7 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         point_motion(ws, pb, vb, ab);
         const Vec3<S> d = separation(pa, pb);  // pb − pa
         if (c.kind == Constraint::Kind::coincident) {
-          for (int i = 0; i < c.nrows; ++i)
-            for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0 + i, k) = S(0);
+          for (int i = 0; i < c.nrows; ++i) clear_row(ws, r0 + i);
           for_each_point_partial(m, ws, c.body_a, pa.offset, [&](int k, const Vec3<S>& V) {
             for (int i = 0; i < c.nrows; ++i) ws.constraint_matrix(r0 + i, k) += V[c.components[i]];
           });
@@ -195,7 +199,7 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
           const S L = sqrt(d.squaredNorm());
           const Vec3<S> e = d / L;
           const S ed = e.dot(dd);
-          for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0, k) = S(0);
+          clear_row(ws, r0);
           for_each_point_partial(m, ws, c.body_b, pb.offset, [&](int k, const Vec3<S>& V) { ws.constraint_matrix(r0, k) += e.dot(V); });
           for_each_point_partial(m, ws, c.body_a, pa.offset, [&](int k, const Vec3<S>& V) { ws.constraint_matrix(r0, k) -= e.dot(V); });
           ws.position_residual[r0] = L - ws.values[c.length];
@@ -206,7 +210,7 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
       }
       case Constraint::Kind::coupler: {
         const S ratio = ws.values[c.ratio];
-        for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0, k) = S(0);
+        clear_row(ws, r0);
         ws.constraint_matrix(r0, c.speed_a) += S(1);
         ws.constraint_matrix(r0, c.speed_b) -= ratio;
         ws.position_residual[r0] = q[c.coord_a] - ratio * q[c.coord_b] - ws.values[c.offset];
@@ -246,8 +250,7 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         std::array<Vec3<S>, 3> e;
         rolling_plane_basis(n, e[0], e[1]);
         e[2] = n;
-        for (int i = 0; i < 3; ++i)
-          for (int k = 0; k < m.nu; ++k) ws.constraint_matrix(r0 + i, k) = S(0);
+        for (int i = 0; i < 3; ++i) clear_row(ws, r0 + i);
         for_each_point_partial(m, ws, b, o_P, [&](int k, const Vec3<S>& V) {
           for (int i = 0; i < 3; ++i) ws.constraint_matrix(r0 + i, k) = e[i].dot(V);
         });
@@ -268,119 +271,11 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
   }
 }
 
-template <class S>
-bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
-  using std::sqrt;
-  const int n = m.nu, nc = m.nconstraint_rows;
-  // M⁻¹ Aᵀ, column by column.
-  for (int j = 0; j < nc; ++j) {
-    for (int k = 0; k < n; ++k) ws.scratch_nu[k] = ws.constraint_matrix(j, k);
-    apply_mass_inverse(m, ws, ws.scratch_nu.data());
-    for (int k = 0; k < n; ++k) ws.minv_at(k, j) = ws.scratch_nu[k];
-  }
-  // Schur complement and right-hand side b − A M⁻¹ f (ws.udot holds M⁻¹ f).
-  for (int i = 0; i < nc; ++i) {
-    S r = ws.constraint_bias[i];
-    for (int k = 0; k < n; ++k) r -= ws.constraint_matrix(i, k) * ws.udot[k];
-    ws.schur_rhs[i] = r;
-    for (int j = 0; j <= i; ++j) {
-      S s = S(0);
-      for (int k = 0; k < n; ++k) s += ws.constraint_matrix(i, k) * ws.minv_at(k, j);
-      ws.schur(i, j) = s;
-      ws.schur(j, i) = s;
-    }
-  }
-  // Pivoted Cholesky P W Pᵀ = L Lᵀ, pivots chosen on values; stops at rank r. (Eigen has no
-  // rank-revealing Cholesky: its LDLT pivots but neither stops at the rank nor gives the
-  // factor blocks the minimum-norm multipliers below are computed from.)
-  auto& W = ws.schur_factor;
-  W = ws.schur;
-  auto& perm = ws.schur_pivots;
-  for (int i = 0; i < nc; ++i) perm[i] = i;
-  double max0 = 0;
-  for (int i = 0; i < nc; ++i) max0 = std::max(max0, value_of(W(i, i)));
-  const double tol = 1e-11 * max0;
-  int r = 0;
-  for (; r < nc; ++r) {
-    int p = r;
-    for (int i = r + 1; i < nc; ++i)
-      if (value_of(W(i, i)) > value_of(W(p, p))) p = i;
-    if (!(value_of(W(p, p)) > tol)) break;
-    if (p != r) {
-      W.row(r).swap(W.row(p));
-      W.col(r).swap(W.col(p));
-      std::swap(perm[r], perm[p]);
-    }
-    W(r, r) = sqrt(W(r, r));
-    for (int i = r + 1; i < nc; ++i) W(i, r) /= W(r, r);
-    for (int j = r + 1; j < nc; ++j)
-      for (int i = j; i < nc; ++i) {
-        W(i, j) -= W(i, r) * W(j, r);
-        W(j, i) = W(i, j);
-      }
-  }
-  ws.constraint_rank = r;
-  // Particular solution in permuted order: [L1⁻ᵀ L1⁻¹ c1; 0].
-  auto& lam = ws.scratch_m;
-  for (int i = 0; i < nc; ++i) lam[i] = ws.schur_rhs[perm[i]];
-  for (int i = 0; i < r; ++i) {
-    S s = lam[i];
-    for (int k = 0; k < i; ++k) s -= W(i, k) * lam[k];
-    lam[i] = s / W(i, i);
-  }
-  for (int i = r - 1; i >= 0; --i) {
-    S s = lam[i];
-    for (int k = i + 1; k < r; ++k) s -= W(k, i) * lam[k];
-    lam[i] = s / W(i, i);
-  }
-  for (int i = r; i < nc; ++i) lam[i] = S(0);
-  if (r < nc) {
-    // Minimum-norm λ: remove the part of λ_p in null(A M⁻¹ Aᵀ), spanned by the columns of
-    // N = [−L1⁻ᵀ L2ᵀ; I] (permuted order): λ = λ_p − N (NᵀN)⁻¹ Nᵀ λ_p.
-    const int d = nc - r;
-    auto& N = ws.nullspace;  // nc × d used
-    for (int c = 0; c < d; ++c) {
-      for (int i = 0; i < r; ++i) N(i, c) = -W(r + c, i);  // −L2ᵀ column
-      for (int i = r - 1; i >= 0; --i) {                     // L1⁻ᵀ
-        S s = N(i, c);
-        for (int k = i + 1; k < r; ++k) s -= W(k, i) * N(k, c);
-        N(i, c) = s / W(i, i);
-      }
-      for (int i = r; i < nc; ++i) N(i, c) = S(i - r == c ? 1 : 0);
-    }
-    // Small d×d system (NᵀN) y = Nᵀ λ_p by Cholesky, in the (no longer needed) trailing
-    // block of W; NᵀN is positive definite, N having an identity block.
-    S* G = &W(r, r);
-    const std::ptrdiff_t ldg = W.outerStride();
-    for (int b = 0; b < d; ++b)
-      for (int a = 0; a <= b; ++a) {  // upper triangle
-        S s = S(0);
-        for (int i = 0; i < nc; ++i) s += N(i, a) * N(i, b);
-        G[b * ldg + a] = s;
-      }
-    // NᵀN has an identity block, so only a non-finite N (a non-finite system) fails here.
-    if (!math::cholesky_factor(G, ldg, G, ldg, d)) return false;
-    for (int a = 0; a < d; ++a) {  // y = Nᵀ λ_p, kept in schur_rhs (no longer needed)
-      S s = S(0);
-      for (int i = 0; i < nc; ++i) s += N(i, a) * lam[i];
-      ws.schur_rhs[a] = s;
-    }
-    math::cholesky_solve(G, ldg, d, ws.schur_rhs.data());
-    for (int i = 0; i < nc; ++i)
-      for (int a = 0; a < d; ++a) lam[i] -= N(i, a) * ws.schur_rhs[a];
-  }
-  for (int i = 0; i < nc; ++i) ws.multipliers[perm[i]] = lam[i];
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < nc; ++j) ws.udot[k] += ws.minv_at(k, j) * ws.multipliers[j];
-  return r > 0 || nc == 0;
-}
-
 #define KANESENS_INSTANTIATE(S)                                                          \
   template void rolling_plane_basis<S>(const Vec3<S>&, Vec3<S>&, Vec3<S>&);               \
   template S rolling_contact_height<S>(const Model&, const Workspace<S>&, const Constraint&);          \
   template void compute_constraints<S>(const Model&, Workspace<S>&, const S*, const S*,   \
-                                       const DynamicsOptions&);                          \
-  template bool solve_constrained_accelerations<S>(const Model&, Workspace<S>&);
+                                       const DynamicsOptions&);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
 KANESENS_INSTANTIATE(math::Dual2)

@@ -1,6 +1,7 @@
 #include "dynamics/embedding.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -42,7 +43,8 @@ double embedding_amplification(const Eigen::MatrixXd& A, const EmbeddingSets& se
 
 template <class S>
 EmbeddingScratch<S>::EmbeddingScratch(const Model& m, const EmbeddingSets& sets)
-    : Ad(sets.dependent.size(), sets.dependent.size()),
+    : dependent_speed(sets.dependent),
+      Ad(sets.dependent.size(), sets.dependent.size()),
       pivots(sets.dependent.size()),
       C(m.nu, sets.independent.size()),
       Mt(sets.independent.size(), sets.independent.size()),
@@ -50,23 +52,69 @@ EmbeddingScratch<S>::EmbeddingScratch(const Model& m, const EmbeddingSets& sets)
       d(m.nu),
       tmp(m.nu),
       r(sets.dependent.size()),
-      ft(sets.independent.size()) {}
+      ft(sets.independent.size()),
+      sparsity(m),
+      first_row(static_cast<std::size_t>(m.nu)),
+      column(static_cast<std::size_t>(m.nu)),
+      arranged_rows(sets.rows.size()),
+      arranged_dependent(sets.dependent.size()) {
+  arrange(sets);
+}
+
+template <class S>
+void EmbeddingScratch<S>::arrange(const EmbeddingSets& sets) {
+  const int nd = static_cast<int>(sets.dependent.size());
+  const ConstraintSparsity& sp = sparsity;
+  auto at = [](auto& v, int i) -> auto& { return v[static_cast<std::size_t>(i)]; };
+  std::fill(first_row.begin(), first_row.end(), nd);  // per speed: the first row of A_d reaching it
+  for (int a = nd - 1; a >= 0; --a) {
+    const int row = at(sets.rows, a);
+    for (int s = at(sp.closure_start, row); s < at(sp.closure_start, row + 1); ++s) at(first_row, at(sp.closure, s)) = a;
+  }
+  std::copy(sets.dependent.begin(), sets.dependent.end(), dependent_speed.begin());
+  std::sort(dependent_speed.begin(), dependent_speed.end(), [&](int k, int l) {  // ties: speed order
+    return at(first_row, k) < at(first_row, l) || (at(first_row, k) == at(first_row, l) && k < l);
+  });
+  std::fill(column.begin(), column.end(), -1);
+  for (int b = 0; b < nd; ++b) at(column, at(dependent_speed, b)) = b;
+  lower_band = upper_band = 0;
+  for (int a = 0; a < nd; ++a) {
+    const int row = at(sets.rows, a);
+    for (int s = at(sp.closure_start, row); s < at(sp.closure_start, row + 1); ++s) {
+      const int b = at(column, at(sp.closure, s));
+      if (b < 0) continue;
+      lower_band = std::max(lower_band, a - b);
+      upper_band = std::max(upper_band, b - a);
+    }
+  }
+  // A column no row reaches makes A_d singular: the full band, as the dense LU.
+  for (int b = 0; b < nd; ++b)
+    if (at(first_row, at(dependent_speed, b)) == nd) lower_band = upper_band = nd;
+  lower_band = std::min(lower_band, std::max(nd - 1, 0));
+  upper_band = std::min(upper_band, std::max(nd - 1, 0));
+  std::copy(sets.rows.begin(), sets.rows.end(), arranged_rows.begin());
+  std::copy(sets.dependent.begin(), sets.dependent.end(), arranged_dependent.begin());
+}
 
 namespace {
 
-// LU with partial pivoting (pivots chosen on values) of sc.Ad in place. Hand-written rather than
-// Eigen's PartialPivLU: measurably faster on these few-row matrices (`kanesens bench rhs`,
-// rhs_embedding), and it allocates nothing.
+// Banded LU with partial pivoting (pivots chosen on values) of sc.Ad in place, as LAPACK's gbtrf:
+// row interchanges are not applied to earlier multipliers; lu_solve interleaves them.
+// Hand-written rather than Eigen's PartialPivLU / SparseLU: it keeps the band, runs on every
+// scalar and allocates nothing.
 template <class S>
 bool factor(EmbeddingScratch<S>& sc) {
   const int n = static_cast<int>(sc.Ad.rows());
+  const int kl = sc.lower_band, ku = sc.lower_band + sc.upper_band;
   double big = 0, small = 1e300;
   for (int k = 0; k < n; ++k) {
+    const int last_row = std::min(n - 1, k + kl), last_col = std::min(n - 1, k + ku);
     int p = k;
-    for (int i = k + 1; i < n; ++i)
+    for (int i = k + 1; i <= last_row; ++i)
       if (std::abs(value_of(sc.Ad(i, k))) > std::abs(value_of(sc.Ad(p, k)))) p = i;
     sc.pivots[k] = p;
-    if (p != k) sc.Ad.row(k).swap(sc.Ad.row(p));
+    if (p != k)
+      for (int j = k; j <= last_col; ++j) std::swap(sc.Ad(k, j), sc.Ad(p, j));
     const double piv = std::abs(value_of(sc.Ad(k, k)));
     big = std::max(big, piv);
     small = std::min(small, piv);
@@ -74,9 +122,9 @@ bool factor(EmbeddingScratch<S>& sc) {
       sc.conditioning = std::numeric_limits<double>::infinity();
       return false;
     }
-    for (int i = k + 1; i < n; ++i) {
+    for (int i = k + 1; i <= last_row; ++i) {
       sc.Ad(i, k) /= sc.Ad(k, k);
-      for (int j = k + 1; j < n; ++j) sc.Ad(i, j) -= sc.Ad(i, k) * sc.Ad(k, j);
+      for (int j = k + 1; j <= last_col; ++j) sc.Ad(i, j) -= sc.Ad(i, k) * sc.Ad(k, j);
     }
   }
   sc.conditioning = n > 0 ? big / small : 1;
@@ -87,14 +135,36 @@ bool factor(EmbeddingScratch<S>& sc) {
 template <class S>
 void lu_solve(const EmbeddingScratch<S>& sc, S* x) {
   const int n = static_cast<int>(sc.Ad.rows());
-  for (int k = 0; k < n; ++k)
+  const int kl = sc.lower_band, ku = sc.lower_band + sc.upper_band;
+  for (int k = 0; k < n; ++k) {
     if (sc.pivots[k] != k) std::swap(x[k], x[sc.pivots[k]]);
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < i; ++k) x[i] -= sc.Ad(i, k) * x[k];
+    const S xk = x[k];
+    for (int i = k + 1; i <= std::min(n - 1, k + kl); ++i) x[i] -= sc.Ad(i, k) * xk;
+  }
   for (int i = n - 1; i >= 0; --i) {
-    for (int k = i + 1; k < n; ++k) x[i] -= sc.Ad(i, k) * x[k];
+    for (int k = i + 1; k <= std::min(n - 1, i + ku); ++k) x[i] -= sc.Ad(i, k) * x[k];
     x[i] /= sc.Ad(i, i);
   }
+}
+
+// y = M x with M's structural zeros skipped (the tree's pattern) when it has any.
+template <class S>
+void mass_times(const Model& m, const Workspace<S>& ws, const S* x, S* y) {
+  const int n = m.nu;
+  if (ws.mass_matrix_full) {
+    for (int k = 0; k < n; ++k) {
+      S s = S(0);
+      for (int l = 0; l < n; ++l) s += ws.mass_matrix(k, l) * x[l];
+      y[k] = s;
+    }
+    return;
+  }
+  for (int k = 0; k < n; ++k) y[k] = ws.mass_matrix(k, k) * x[k];
+  for (int k = 0; k < n; ++k)
+    for (int i = m.speed_parent[k]; i >= 0; i = m.speed_parent[i]) {
+      y[k] += ws.mass_matrix(k, i) * x[i];
+      y[i] += ws.mass_matrix(i, k) * x[k];
+    }
 }
 
 }  // namespace
@@ -106,9 +176,12 @@ bool reconstruct_speeds(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& s
   for (int k = 0; k < m.nu; ++k) sc.tmp[k] = S(0);
   evaluate_constraints(m, ws, t, q, sc.tmp.data());
   const int nd = static_cast<int>(sets.dependent.size());
-  for (int a = 0; a < nd; ++a) {
+  if (!sc.arranged_for(sets)) sc.arrange(sets);  // after a repartition
+  const int kl = sc.lower_band, ku = kl + sc.upper_band;
+  for (int a = 0; a < nd; ++a) {  // the band and the room its fill needs
     const int row = sets.rows[a];
-    for (int b = 0; b < nd; ++b) sc.Ad(a, b) = ws.constraint_matrix(row, sets.dependent[b]);
+    for (int b = std::max(0, a - kl); b <= std::min(nd - 1, a + ku); ++b)
+      sc.Ad(a, b) = ws.constraint_matrix(row, sc.dependent_speed[b]);
   }
   if (!factor(sc)) return false;
   // C = [I; −A_d⁻¹ A_i] and u = C u_i + c.
@@ -118,17 +191,17 @@ bool reconstruct_speeds(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& s
     sc.C(kc, static_cast<Eigen::Index>(c)) = S(1);
     for (int a = 0; a < nd; ++a) sc.r[a] = -ws.constraint_matrix(sets.rows[a], kc);
     lu_solve(sc, sc.r.data());
-    for (int a = 0; a < nd; ++a) sc.C(sets.dependent[a], static_cast<Eigen::Index>(c)) = sc.r[a];
+    for (int a = 0; a < nd; ++a) sc.C(sc.dependent_speed[a], static_cast<Eigen::Index>(c)) = sc.r[a];
   }
   sc.amplification = 0;
   for (std::size_t c = 0; c < sets.independent.size(); ++c)
     for (int a = 0; a < nd; ++a)
       sc.amplification =
-          std::max(sc.amplification, std::abs(value_of(sc.C(sets.dependent[a], static_cast<Eigen::Index>(c)))));
+          std::max(sc.amplification, std::abs(value_of(sc.C(sc.dependent_speed[a], static_cast<Eigen::Index>(c)))));
   for (int a = 0; a < nd; ++a) sc.r[a] = -ws.velocity_residual[sets.rows[a]];
   lu_solve(sc, sc.r.data());
   for (int k = 0; k < m.nu; ++k) u[k] = S(0);
-  for (int a = 0; a < nd; ++a) u[sets.dependent[a]] = sc.r[a];
+  for (int a = 0; a < nd; ++a) u[sc.dependent_speed[a]] = sc.r[a];
   for (std::size_t c = 0; c < sets.independent.size(); ++c)
     for (int k = 0; k < m.nu; ++k) u[k] += sc.C(k, static_cast<Eigen::Index>(c)) * ui[c];
   return true;
@@ -155,24 +228,17 @@ bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, con
   for (int a = 0; a < nd; ++a) sc.r[a] = ws.constraint_bias[sets.rows[a]];
   lu_solve(sc, sc.r.data());
   for (int k = 0; k < m.nu; ++k) sc.d[k] = S(0);
-  for (int a = 0; a < nd; ++a) sc.d[sets.dependent[a]] = sc.r[a];
+  for (int a = 0; a < nd; ++a) sc.d[sc.dependent_speed[a]] = sc.r[a];
   // tmp = f − M d;  f̃ = Cᵀ tmp;  M̃ = Cᵀ M C
-  for (int k = 0; k < m.nu; ++k) {
-    S s = ws.forcing[k];
-    for (int l = 0; l < m.nu; ++l) s -= ws.mass_matrix(k, l) * sc.d[l];
-    sc.tmp[k] = s;
-  }
+  mass_times(m, ws, sc.d.data(), sc.tmp.data());
+  for (int k = 0; k < m.nu; ++k) sc.tmp[k] = ws.forcing[k] - sc.tmp[k];
   for (int a = 0; a < ni; ++a) {
     S s = S(0);
     for (int k = 0; k < m.nu; ++k) s += sc.C(k, a) * sc.tmp[k];
     sc.ft[a] = s;
   }
   for (int b = 0; b < ni; ++b) {
-    for (int k = 0; k < m.nu; ++k) {  // tmp = M C[:, b]
-      S s = S(0);
-      for (int l = 0; l < m.nu; ++l) s += ws.mass_matrix(k, l) * sc.C(l, b);
-      sc.tmp[k] = s;
-    }
+    mass_times(m, ws, &sc.C(0, b), sc.tmp.data());  // tmp = M C[:, b]
     for (int a = 0; a <= b; ++a) {
       S s = S(0);
       for (int k = 0; k < m.nu; ++k) s += sc.C(k, a) * sc.tmp[k];

@@ -25,7 +25,19 @@ struct EmbeddingSets {
 template <class S>
 struct EmbeddingScratch {
   EmbeddingScratch(const Model& m, const EmbeddingSets& sets);
-  MatX<S> Ad;       // nd×nd, LU factors in place
+  // A_d's columns ordered by the first row that can reach them (ConstraintSparsity): loops that
+  // follow one another (a chain of loops) then give a band, lower_band rows below and upper_band
+  // columns right of the diagonal; the LU with partial pivoting keeps L within lower_band and U within
+  // lower_band + upper_band, so a chain of loops costs O(nd). (The full band is the dense LU.)
+  std::vector<int> dependent_speed;  // nd: the speed of each column of Ad
+  int lower_band = 0, upper_band = 0;
+  // Orders A_d's columns and finds the band for `sets` (the constructor's, or a repartition's of
+  // the same size: reconstruct_speeds calls it when the sets change; it allocates nothing then).
+  void arrange(const EmbeddingSets& sets);
+  bool arranged_for(const EmbeddingSets& sets) const {
+    return sets.rows == arranged_rows && sets.dependent == arranged_dependent;
+  }
+  MatX<S> Ad;       // nd×nd, LU factors in place (within the band)
   std::vector<int> pivots;
   MatX<S> C;        // nu×ni
   MatX<S> Mt;       // ni×ni
@@ -37,6 +49,10 @@ struct EmbeddingScratch {
   // the independent ones. It grows without bound as the partition degrades (a dependent speed's
   // coefficients vanish), however A_d is scaled.
   double amplification = 0;
+  // What arrange works from and on.
+  ConstraintSparsity sparsity;
+  std::vector<int> first_row, column;  // nu: scratch of arrange
+  std::vector<int> arranged_rows, arranged_dependent;
 };
 
 // Picks the sets at (t, q) from A (doubles): rows by a rank-revealing QR of Aᵀ, dependent

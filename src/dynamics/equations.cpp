@@ -9,6 +9,7 @@
 #include "dynamics/force_elements.hpp"
 #include "dynamics/frames.hpp"
 #include "dynamics/planar_stages.hpp"
+#include "dynamics/tree_factor.hpp"
 
 namespace kanesens::dynamics {
 
@@ -33,7 +34,6 @@ void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
     const Joint& J = m.joints[*it];
     if (J.parent >= 0) ws.composite_inertia[J.child].add_to_parent(ws.joint_offset[*it], ws.composite_inertia[J.parent]);
   }
-  if (!ws.mass_matrix_full) ws.mass_matrix.setZero();
   // M_kl = s_k · (I^c_C s_l) for every speed k moving C, the momentum I^c_C s_l carried from Q_C
   // to each ancestor's reference point on the way to the root.
   for (const Joint& J : m.joints) {
@@ -92,14 +92,22 @@ void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
 
 template <class S>
 bool solve_accelerations(const Model& m, Workspace<S>& ws) {
-  // M = Uᵀ U (kept: solve_constrained_accelerations reuses it), u̇ = M⁻¹ f. On a multi-tangent
-  // scalar only M's value is factored (ws.value_factor).
+  // M's factor is kept (solve_constrained_accelerations reuses it), u̇ = M⁻¹ f. On a
+  // multi-tangent scalar only M's value is factored (ws.value_factor).
   const int n = m.nu;
   if constexpr (math::is_multi_dual_v<S>) {
     double* U = ws.value_factor.data();
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i <= j; ++i) U[j * n + i] = ws.mass_matrix(i, j).v;
-    if (!math::cholesky_factor(U, n, U, n, n)) return false;
+    if (ws.tree_factor) {
+      tree::copy_pattern(m, ws.mass_matrix.data(), n, U, n, [](const S& x) { return x.v; });
+      if (!tree::factor(m, U, n)) return false;
+    } else {
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i <= j; ++i) U[j * n + i] = ws.mass_matrix(i, j).v;
+      if (!math::cholesky_factor(U, n, U, n, n)) return false;
+    }
+  } else if (ws.tree_factor) {
+    tree::copy_pattern(m, ws.mass_matrix.data(), n, ws.cholesky.data(), n, [](const S& x) { return x; });
+    if (!tree::factor(m, ws.cholesky.data(), n)) return false;
   } else {
     if (!math::cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n)) return false;
   }
@@ -111,6 +119,7 @@ bool solve_accelerations(const Model& m, Workspace<S>& ws) {
 template <class S>
 void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x) {
   const int n = m.nu;
+  if (ws.tree_factor) return apply_mass_inverse(m, ws, x, m.speed_order.data(), n);
   if constexpr (math::is_multi_dual_v<S>) {
     // x0 = M0⁻¹ b0, then M0 x_i = b_i − M_i x0 for every tangent i, with M0's factor.
     const double* U = ws.value_factor.data();
@@ -123,6 +132,31 @@ void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x) {
     for (int i = 0; i < n; ++i) x[i].v = x0[i];
   } else {
     math::cholesky_solve(ws.cholesky.data(), n, n, x);
+  }
+}
+
+template <class S>
+void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x, const int* support, int ns) {
+  const int n = m.nu;
+  if constexpr (math::is_multi_dual_v<S>) {
+    // As the dense path: M0 x_i = b_i − M_i x0, M_i x0 formed on M's tree pattern.
+    const double* F = ws.value_factor.data();
+    double* x0 = ws.value_solution.data();
+    for (int s = 0; s < ns; ++s) x0[support[s]] = x[support[s]].v;
+    tree::solve(m, F, n, support, ns, x0);
+    const int* parent = m.speed_parent.data();
+    for (int s = 0; s < ns; ++s) {
+      const int k = support[s];
+      x[k].subtract_tangents(ws.mass_matrix(k, k), x0[k]);
+      for (int i = parent[k]; i >= 0; i = parent[i]) {
+        x[k].subtract_tangents(ws.mass_matrix(k, i), x0[i]);
+        x[i].subtract_tangents(ws.mass_matrix(i, k), x0[k]);
+      }
+    }
+    tree::solve(m, F, n, support, ns, x);
+    for (int s = 0; s < ns; ++s) x[support[s]].v = x0[support[s]];
+  } else {
+    tree::solve(m, ws.cholesky.data(), n, support, ns, x);
   }
 }
 
@@ -218,6 +252,7 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
   template void compute_forcing<S>(const Model&, Workspace<S>&, const S*, const S*);            \
   template bool solve_accelerations<S>(const Model&, Workspace<S>&);                            \
   template void apply_mass_inverse<S>(const Model&, Workspace<S>&, S*);                         \
+  template void apply_mass_inverse<S>(const Model&, Workspace<S>&, S*, const int*, int);         \
   template void evaluate_mass_matrix_and_forcing<S>(const Model&, Workspace<S>&, const S&,      \
                                                     const S*, const S*);                        \
   template void evaluate_constraints<S>(const Model&, Workspace<S>&, const S&, const S*, const S*,   \

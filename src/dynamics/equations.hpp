@@ -7,7 +7,7 @@
 //   compute_velocity          body velocities, bias accelerations (u̇ = 0)
 //   compute_mass_matrix       M (nu×nu)
 //   compute_forcing           f (nu): generalized active forces + inertia forces at u̇ = 0
-//   solve_accelerations       u̇ = M⁻¹ f (Cholesky)
+//   solve_accelerations       u̇ = M⁻¹ f (tree LᵀDL or dense Cholesky)
 //   compute_kinematic_derivatives  q̇ = N(q) u
 //
 // For speed k of joint j with child body C and joint point Q, the partial angular velocity is
@@ -44,6 +44,11 @@ bool solve_accelerations(const Model& m, Workspace<S>& ws);
 // of M x = b), so no factorisation is done on tangents.
 template <class S>
 void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x);
+// The same on a `support` of speeds (dynamics/tree_factor.hpp) when ws.tree_factor: x must be
+// zero outside the support's ancestor closure; entries outside the support are neither read
+// nor written.
+template <class S>
+void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x, const int* support, int ns);
 template <class S>
 void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q, const S* u);
 

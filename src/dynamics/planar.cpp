@@ -118,7 +118,6 @@ void compute_mass_matrix_planar(const Model& m, Workspace<S>& ws) {
       ws.composite_planar[J.child].add_to_parent(r[0], r[1], ws.composite_planar[J.parent]);
     }
   }
-  if (!ws.mass_matrix_full) ws.mass_matrix.setZero();
   auto power = [](const PVec<S>& s, bool rotation, const PVec<S>& F) {
     return rotation ? S(s[0] * F[0]) : S(s[1] * F[1] + s[2] * F[2]);
   };

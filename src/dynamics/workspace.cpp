@@ -59,6 +59,7 @@ Workspace<S>::Workspace(const Model& m)
       scratch_m(m.nconstraint_rows),
       scratch_nu(m.nu),
       schur_pivots(m.nconstraint_rows),
+      constraint_sparsity(m),
 
       partial_planar(m.nu),
       inertia_planar(m.nbody()),
@@ -84,6 +85,14 @@ Workspace<S>::Workspace(const Model& m)
   std::size_t within = 0;  // pairs counted twice above: speeds of the same joint
   for (const Joint& J : m.joints) within += static_cast<std::size_t>(J.nu) * static_cast<std::size_t>(J.nu - 1) / 2;
   mass_matrix_full = related - within == n * (n + 1) / 2;
+  tree_factor = !mass_matrix_full;
+  // The sparse constraint solve pays for its indexing when A M⁻¹ Aᵀ or M⁻¹ Aᵀ is mostly zero.
+  const auto mc = static_cast<std::size_t>(m.nconstraint_rows);
+  sparse_constraints = tree_factor && mc > 0 &&
+                       (2 * constraint_sparsity.envelope_entries < mc * (mc + 1) / 2 ||
+                        2 * constraint_sparsity.support_entries < mc * n);
+  mass_matrix.setZero();
+  constraint_matrix.setZero();
 }
 
 namespace {

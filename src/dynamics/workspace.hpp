@@ -34,6 +34,21 @@ using model::Slot;
 using model::Slot3;
 using model::SpeedAxis;
 
+// Where the constraint system is structurally nonzero, from the Model alone (built once per
+// workspace; dynamics/constraint_solve.cpp). Speed lists are closed under Model::speed_parent and
+// listed parents first (dynamics/tree_factor.hpp).
+struct ConstraintSparsity {
+  explicit ConstraintSparsity(const Model& model);
+  // Row i of A: the ancestor closure C_i of the speeds it can involve.
+  std::vector<int> closure_start, closure;  // m + 1 offsets, speeds
+  // Column j of M⁻¹ Aᵀ: T_j, the speeds below C_j (where M⁻¹ a_j can be nonzero).
+  std::vector<int> support_start, support;  // m + 1 offsets, speeds
+  // (A M⁻¹ Aᵀ)_ij is zero unless C_i and C_j share a speed: envelope_first[i] is the first such
+  // j (the envelope of row i is [envelope_first[i], i]; Cholesky fills nothing outside it).
+  std::vector<int> envelope_first;  // m
+  std::size_t envelope_entries = 0, support_entries = 0;
+};
+
 // Frames (math/spatial.hpp): every body's spatial quantities are taken at its reference point,
 // the joint point Q_b of its inboard joint (on the body), with world-aligned axes; a joint's
 // offset r_J = Q_child − Q_parent (small: a body length) moves them between neighbours. Bodies
@@ -78,10 +93,15 @@ struct Workspace {
   std::vector<Vec6<S>> wrench;     // nb: applied minus inertial (u̇ = 0) force vector at Q_b,
                                    //     then summed over the subtree
   bool mass_matrix_full = false;   // every pair of speeds moves a common body (a chain): no zeros
-  MatX<S> mass_matrix;             // nu×nu
+  // M is factored along the tree (dynamics/tree_factor.hpp) when it has structural zeros; for a
+  // chain both factorisations do the same arithmetic and the dense one vectorises. Tests set it
+  // to compare the two.
+  bool tree_factor = false;
+  MatX<S> mass_matrix;             // nu×nu; entries of unrelated speeds stay zero
   VecX<S> forcing;                 // nu
-  MatX<S> cholesky;                // nu×nu: upper triangle = U, mass_matrix = Uᵀ U (U = Lᵀ)
-  // Multi-tangent scalars: the factor of M's value (upper, as cholesky) and one value solve;
+  MatX<S> cholesky;                // nu×nu: upper triangle = U, mass_matrix = Uᵀ U (U = Lᵀ), or
+                                   //        the tree factor LᵀDL (tree_factor)
+  // Multi-tangent scalars: the factor of M's value (as cholesky) and one value solve;
   // the tangents are solved with it (apply_mass_inverse).
   Eigen::MatrixXd value_factor;    // nu×nu
   Eigen::VectorXd value_solution;  // nu
@@ -103,6 +123,10 @@ struct Workspace {
   VecX<S> scratch_m, scratch_nu;   // m, nu
   std::vector<int> schur_pivots;   // m
   int constraint_rank = 0;         // rank of A M⁻¹ Aᵀ at the last solve
+  ConstraintSparsity constraint_sparsity;
+  // Solve with the sparsity above (dynamics/constraint_solve.cpp) when it saves work: needs
+  // tree_factor; tests set it to compare with the dense solve.
+  bool sparse_constraints = false;
   // General constraints (dynamics/constraints.cpp): q and the parameters as first- and second-order
   // duals, nq and np entries (empty when the model has no general constraint).
   std::vector<DualT<S>> general_q1, general_p1;

@@ -7,6 +7,13 @@
 // orthogonal decomposition, whose rank threshold drops the null directions, as before this
 // fast path existed. The switch is on the Cholesky pivots: cond(J)² ≈ (max/min diag L)², so a
 // ratio above 1e4 (cond(J) above ~1e4, a Gram condition above 1e8) goes the careful way.
+//
+// Constraint Jacobians of large mechanisms are mostly zero (a row involves the speeds of two
+// bodies' paths to the root): a J with few nonzeros per column gets J Jᵀ summed from its
+// nonzeros, column by column, and the Cholesky factorisation confined to J Jᵀ's envelope (for
+// loops that follow one another, a band): O(nnz) instead of O(m² n). A dense J takes the dense
+// product. The factorisation is hand-written (Eigen's LLT has no envelope) and allocates only
+// when the size changes.
 #pragma once
 #include <Eigen/Dense>
 
@@ -23,8 +30,9 @@ class MinNormSolver {
   bool used_cholesky() const { return cholesky_; }
 
  private:
-  Eigen::MatrixXd J_, gram_;
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::MatrixXd J_, gram_;  // gram_: J Jᵀ, then its factor U = Lᵀ in the upper envelope
+  Eigen::VectorXi first_;      // per row of J Jᵀ: its first nonzero column (the envelope)
+  Eigen::VectorXi column_rows_;  // scratch: the rows of one column of J that are nonzero
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_;
   Eigen::VectorXd w_, x_, Je_;
   bool cholesky_ = true;

@@ -242,6 +242,17 @@ class Builder {
       for (int k = 0; k < j.nu; ++k) speeds.push_back(j.u_offset + k);
       m_.ancestor_speeds[j.child] = speeds;
     }
+    m_.speed_parent.assign(static_cast<std::size_t>(m_.nu), -1);
+    m_.speed_order.clear();
+    for (int ji : order) {
+      const Joint& j = m_.joints[ji];
+      const std::vector<int>& speeds = m_.ancestor_speeds[j.child];  // ends with j's speeds
+      for (int k = 0; k < j.nu; ++k) {
+        const std::size_t at = speeds.size() - static_cast<std::size_t>(j.nu - k);
+        m_.speed_parent[static_cast<std::size_t>(j.u_offset + k)] = at > 0 ? speeds[at - 1] : -1;
+        m_.speed_order.push_back(j.u_offset + k);
+      }
+    }
     m_.moves.assign(nb, std::vector<unsigned char>(m_.nu, 0));
     for (int b = 0; b < nb; ++b)
       for (int k : m_.ancestor_speeds[b]) m_.moves[b][k] = 1;

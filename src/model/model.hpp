@@ -114,6 +114,11 @@ struct Model {
   std::vector<Joint> joints;        // declaration order (= order of q and u)
   std::vector<int> joint_order;     // topological: parents before children
   std::vector<std::vector<int>> ancestor_speeds;  // per body: speeds moving it, root first
+  // The speeds' tree (Featherstone 2008 §6.5): speed_parent[k] is the speed next to k on the
+  // way to the root (the previous speed of k's joint, else the last speed of the nearest
+  // ancestor joint that has speeds; −1 on a root), speed_order lists the speeds parents first.
+  std::vector<int> speed_parent;  // nu
+  std::vector<int> speed_order;   // nu
   std::vector<Force> forces;
   std::vector<Constraint> constraints;
   int nconstraint_rows = 0;                      // m

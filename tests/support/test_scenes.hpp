@@ -29,6 +29,30 @@ inline std::string chain_scene(int n, double tilt = 0.0) {
   return s;
 }
 
+// bench/n_four_bar.py's scene, the IFToMM N four-bar mechanism: N+1 cranks on the ground, coupler
+// i on crank i's tip, closed onto crank i+1's tip by a coincident constraint; cranks at φ0 = 0.7
+// turning at −1.4 rad/s, on the constraint manifold.
+inline std::string n_four_bar(int n) {
+  const auto num = [](int i) { return std::to_string(i); };
+  std::string s =
+      "kanesens: 1\nscene:\n  name: n_four_bar\n  gravity: [0, -9.81, 0]\n"
+      "  parameters: {L: 1.0, m: 1.0, phi0: 0.7, w0: -1.4}\n  bodies:\n";
+  for (int i = 0; i <= n; ++i) s += "    - {name: crank" + num(i) + ", mass: m, inertia: {shape: rod, length: L, axis: x}}\n";
+  for (int i = 0; i < n; ++i) s += "    - {name: coupler" + num(i) + ", mass: m, inertia: {shape: rod, length: L, axis: x}}\n";
+  s += "  joints:\n";
+  for (int i = 0; i <= n; ++i)
+    s += "    - {name: crank" + num(i) + ", type: revolute, parent: ground, child: crank" + num(i) +
+         ", axis: [0, 0, 1], parent_point: [\"" + num(i) + "*L\", 0, 0], child_point: [\"-L/2\", 0, 0], q0: phi0, u0: w0}\n";
+  for (int i = 0; i < n; ++i)
+    s += "    - {name: coupler" + num(i) + ", type: revolute, parent: crank" + num(i) + ", child: coupler" + num(i) +
+         ", axis: [0, 0, 1], parent_point: [\"L/2\", 0, 0], child_point: [\"-L/2\", 0, 0], q0: \"-phi0\", u0: \"-w0\"}\n";
+  s += "  constraints:\n";
+  for (int i = 0; i < n; ++i)
+    s += "    - {name: loop" + num(i) + ", type: coincident, body_a: coupler" + num(i) + ", point_a: [\"L/2\", 0, 0], body_b: crank" +
+         num(i + 1) + ", point_b: [\"L/2\", 0, 0]}\n";
+  return s;
+}
+
 // A ball-jointed rod carrying a revolute second rod (quaternion coordinates, 3-D).
 inline const char* kSphericalScene = R"yaml(kanesens: 1
 scene:

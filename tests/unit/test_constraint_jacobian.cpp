@@ -137,6 +137,42 @@ TEST(MinNormSolver, MatchesCompleteOrthogonalDecomposition) {
   }
 }
 
+TEST(MinNormSolver, SparseJacobianMatchesCompleteOrthogonalDecomposition) {
+  // The N four-bar's pattern (loop i: crank i, coupler i, crank i+1, two rows each) with random
+  // entries: J Jᵀ is summed from J's nonzeros and factored in its envelope.
+  const int n = 12, rows = 2 * n, cols = 2 * n + 1;
+  std::mt19937 rng(9);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(rows, cols);
+  for (int i = 0; i < n; ++i)
+    for (int r = 2 * i; r < 2 * i + 2; ++r)
+      for (int k : {i, n + 1 + i, i + 1}) J(r, k) = normal(rng);
+  Eigen::VectorXd r(rows), x;
+  for (auto& v : r) v = normal(rng);
+  MinNormSolver s;
+  s.compute(J);
+  EXPECT_TRUE(s.used_cholesky());
+  s.solve(r, x);
+  // The dense normal equations agree to round-off; the orthogonal decomposition to round-off
+  // times J's condition number.
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);
+  const double cond = svd.singularValues()(0) / svd.singularValues()(rows - 1);
+  const Eigen::VectorXd dense = J.transpose() * (J * J.transpose()).llt().solve(r);
+  EXPECT_LT((x - dense).norm(), 1e-15 * cond * cond * dense.norm()) << "cond(J) = " << cond;
+  const Eigen::VectorXd expected = J.completeOrthogonalDecomposition().solve(r);
+  EXPECT_LT((x - expected).norm(), 1e-14 * cond * cond * expected.norm()) << "cond(J) = " << cond;
+  EXPECT_LT((J * x - r).norm(), 1e-12 * cond * r.norm());
+  Eigen::VectorXd e(cols);
+  for (auto& v : e) v = normal(rng);
+  const Eigen::VectorXd e0 = e;
+  s.remove_normal_component(e);
+  EXPECT_LT((J * e).norm(), 1e-12 * cond * e0.norm());
+  // A redundant (repeated) row still goes the careful way.
+  J.row(5) = J.row(4);
+  s.compute(J);
+  EXPECT_FALSE(s.used_cholesky());
+}
+
 TEST(MinNormSolver, RedundantRowsFallBackToTheOrthogonalDecomposition) {
   // A repeated constraint row (a redundant closure): J Jᵀ is singular, the Cholesky path must not
   // be used, and the solution is still the minimum-norm one of the consistent system.

@@ -14,6 +14,7 @@
 #include "sim/kane_problem.hpp"
 #include "dynamics/equations.hpp"
 #include "model/build_model.hpp"
+#include "dynamics/embedding.hpp"
 #include "model/scene/parse_scene.hpp"
 #include "test_scenes.hpp"
 #include "../support/layers.hpp"
@@ -111,7 +112,8 @@ std::vector<Case> cases() {
           {"chain_tilted", test_scenes::chain_scene(8, 0.1)},
           {"spherical", test_scenes::kSphericalScene},
           {"free", test_scenes::kFreeScene},
-          {"forces", test_scenes::kForcesScene}};
+          {"forces", test_scenes::kForcesScene},
+          {"n_four_bar", test_scenes::n_four_bar(6)}};  // the tree factor and the sparse constraint solve
 }
 
 }  // namespace
@@ -145,6 +147,45 @@ TEST(NoAllocation, EvaluateRhsMultiDual) {
     expect_no_allocation<math::MultiDual<8>>(c.text);
     expect_no_allocation<math::MultiDual<12>>(c.text);
   }
+}
+
+TEST(NoAllocation, EmbeddingIncludingARepartition) {
+  // The embedding's RHS, and its re-arrangement of A_d's band when the partition changes.
+  const int n = 6;
+  const Model m = build_model(parse_scene_text(test_scenes::n_four_bar(n), "scene.yaml"));
+  Workspace<double> ws(m);
+  const std::vector<double> p = m.nominal_parameters();
+  set_parameters(m, ws, p.data());
+  std::vector<double> q(static_cast<std::size_t>(m.nq)), u(static_cast<std::size_t>(m.nu));
+  for (int i = 0; i < m.nq; ++i) {
+    q[static_cast<std::size_t>(i)] = i <= n ? 0.7 : -0.7;
+    u[static_cast<std::size_t>(i)] = i <= n ? -1.4 : 1.4;
+  }
+  evaluate_constraints(m, ws, 0.3, q.data(), u.data());
+  const EmbeddingSets sets = choose_embedding(ws.constraint_matrix);
+  ASSERT_EQ(sets.independent.size(), 1u);
+  EmbeddingSets other = sets;  // another crank as the independent speed
+  other.independent = {sets.independent[0] == 2 ? 3 : 2};
+  other.dependent.clear();
+  for (int k = 0; k < m.nu; ++k)
+    if (k != other.independent[0]) other.dependent.push_back(k);
+  EmbeddingScratch<double> sc(m, sets);
+  auto reduced = [&](const EmbeddingSets& s) {
+    std::vector<double> y(q);
+    y.push_back(u[static_cast<std::size_t>(s.independent[0])]);
+    return y;
+  };
+  const std::vector<double> y1 = reduced(sets), y2 = reduced(other);
+  std::vector<double> ydot(y1.size());
+  ASSERT_TRUE(embedded_rhs(m, ws, sc, sets, 0.3, y1.data(), ydot.data()));  // warm-up
+  bool ok = true;
+  const long count = allocations_during([&] {
+    ok = embedded_rhs(m, ws, sc, other, 0.3, y2.data(), ydot.data()) && ok;
+    ok = embedded_rhs(m, ws, sc, sets, 0.3, y1.data(), ydot.data()) && ok;
+  });
+  EXPECT_TRUE(ok);
+  EXPECT_TRUE(sc.arranged_for(sets));
+  EXPECT_EQ(count, 0) << count << " heap allocations";
 }
 
 TEST(NoAllocation, SolverCallbacks) {
