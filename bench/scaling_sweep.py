@@ -53,7 +53,10 @@ def study(exe: Path, n: int, method: str, work: Path, end: float, rtol: float, r
     s = d["stats"]
     return {"n": n, "method": method, "rtol": rtol, "end": end, "status": d["status"],
             "wall_seconds": common.median(walls), "wall_seconds_all": walls, "steps": s["steps"], "rhs_evals": s["rhs_evals"],
-            "jac_evals": s.get("jac_evals", 0), "max_error_crank0_q": err}
+            "jac_evals": s.get("jac_evals", 0), "jtimes_evals": s.get("jtimes_evals", 0),
+            # builds before the choice of Newton's linear solver always used the dense one
+            "linear_solver": s.get("linear_solver", "dense" if method != "dop853" else "none"),
+            "max_error_crank0_q": err}
 
 
 def sweep(a) -> dict:
