@@ -5,7 +5,8 @@ staggered and staggered1 on the same study, with BDF and Adams and Ns sensitivit
   sensitivity_corrector.py OUT.json [--exe build/kanesens] [--runs K] [--scenes a,b] [--methods m,n]
                            [--ns 1,2,6] [--correctors simultaneous,staggered,staggered1]
                            [--error-control true,false]
-  sensitivity_corrector.py --table OUT.json
+  sensitivity_corrector.py --table OUT.json      # every configuration
+  sensitivity_corrector.py --summary OUT.json    # the default against the former default
 
 For every scene, method and Ns: K rounds, each running every corrector once (interleaved, so that
 machine load hits them alike). The figure per configuration is the median of stats.wall_seconds
@@ -20,6 +21,9 @@ import os
 import statistics
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 CORRECTORS = ["simultaneous", "staggered", "staggered1"]
@@ -40,6 +44,9 @@ SCENES = {
     "slider_crank": ("configs/slider_crank_study.yaml", "l,ms,r,m1,m2,w",
                      {"adams": ["solver.constraints.stabilization=baumgarte"]}, True),
 }
+# Scenes and methods whose constraints are stabilised by projection (what sensitivity.method: auto
+# looks at).
+PROJECTION = {("four_bar_multipliers", "bdf"), ("four_bar_embedding", "bdf"), ("slider_crank", "bdf")}
 
 
 def run(exe, study, method, sens, corrector, extra):
@@ -68,6 +75,7 @@ def flat(d):
 
 
 def measure(out, exe, runs, scenes, methods, counts, correctors, controls):
+    load_start = common.loadavg()
     result = {"command": "/usr/bin/python3 bench/sensitivity_corrector.py " + " ".join(sys.argv[1:]),
               "runs": runs, "correctors": correctors, "rows": []}
     for name in scenes:
@@ -86,7 +94,8 @@ def measure(out, exe, runs, scenes, methods, counts, correctors, controls):
             scale = max(abs(v) for v in ref)
             row = {"scene": name, "study": study, "method": method, "error_control": ec == "true",
                    "ns": ns, "sensitivities": sens, "max_abs_sensitivity": scale,
-                   "constrained": constrained, "set": extra, "results": {}}
+                   "constrained": constrained, "projection": (name, method) in PROJECTION, "set": extra,
+                   "results": {}}
             for c in correctors:
                 s = flat(last[c])
                 diff = max(abs(a - b) for a, b in zip(s, ref))
@@ -95,6 +104,7 @@ def measure(out, exe, runs, scenes, methods, counts, correctors, controls):
             result["rows"].append(row)
             print(name, method, ec, ns, " ".join(f"{c}={statistics.median(times[c]) * 1e3:.2f}ms"
                                              for c in correctors), file=sys.stderr)
+    result["meta"] = common.provenance(load_start)
     with open(out, "w") as f:
         json.dump(result, f, indent=1)
 
@@ -120,10 +130,42 @@ def table(path):
               f" | {min(cs, key=med.get)} | {steps} | {diff:.1e} | {row['max_abs_sensitivity']:.1e} |")
 
 
+def summary(path):
+    """simultaneous against staggered (the former default): medians and their ratio per scene, method
+    and error control, one column per Ns; what sensitivity.method: auto picks there."""
+    with open(path) as f:
+        r = json.load(f)
+    groups, counts, auto = {}, [], {}
+    for row in r["rows"]:
+        groups.setdefault((row["scene"], row["method"], row["error_control"]), []).append(row)
+        auto[(row["scene"], row["method"], row["error_control"])] = "staggered" if row["projection"] else "simultaneous"
+        if row["ns"] not in counts:
+            counts.append(row["ns"])
+    print(f"Median of {r['runs']} interleaved runs: `simultaneous` / `staggered` in ms (ratio); "
+          "the largest difference between the correctors' sensitivities relative to the largest "
+          "|sensitivity|.\n")
+    print("| scene | method | error control | " + " | ".join(f"Ns = {k}" for k in counts) + " | max rel. diff | auto |")
+    print("|---|---|---|" + "---:|" * len(counts) + "---:|---|")
+    for (scene, method, ec), rows in groups.items():
+        cells, rel = [], 0.0
+        for k in counts:
+            row = next((x for x in rows if x["ns"] == k), None)
+            if row is None:
+                cells.append("—")
+                continue
+            a = statistics.median(row["results"]["simultaneous"]["wall_s"])
+            b = statistics.median(row["results"]["staggered"]["wall_s"])
+            cells.append(f"{a * 1e3:.1f} / {b * 1e3:.1f} ({a / b:.2f})")
+            if row["max_abs_sensitivity"] > 1e-12:
+                rel = max(rel, max(v["max_abs_diff"] for v in row["results"].values()) / row["max_abs_sensitivity"])
+        print(f"| {scene} | {method} | {'on' if ec else 'off'} | " + " | ".join(cells) + f" | {rel:.0e} | "
+              f"{auto[(scene, method, ec)]} |")
+
+
 if __name__ == "__main__":
     argv = sys.argv[1:]
-    if len(argv) == 2 and argv[0] == "--table":
-        table(argv[1])
+    if len(argv) == 2 and argv[0] in ("--table", "--summary"):
+        (table if argv[0] == "--table" else summary)(argv[1])
         sys.exit(0)
     if not argv:
         sys.exit(__doc__)

@@ -86,6 +86,7 @@ void print_json(const Model& m, const KaneProblem& problem, const std::vector<do
   const auto& s = tr.result.stats;
   j.key("stats").begin_object();
   j.key("linear_solver").value(std::string(to_string(tr.result.linear_solver)));
+  j.key("sensitivity_method").value(std::string(to_string(tr.result.sensitivity_method)));
   j.key("steps").value(static_cast<long long>(s.steps));
   j.key("rhs_evals").value(static_cast<long long>(s.rhs_evals));
   j.key("jac_evals").value(static_cast<long long>(s.jac_evals));

@@ -131,7 +131,7 @@ void parse_solver(const YAML::Node& n, const YamlReader& r, sim::SolverOptions& 
       o.sensitivity_method = r.read_choice<SensitivityMethod>(
           s["method"], k2 + ".method",
           {{"simultaneous", SensitivityMethod::simultaneous}, {"staggered", SensitivityMethod::staggered},
-           {"staggered1", SensitivityMethod::staggered1}});
+           {"staggered1", SensitivityMethod::staggered1}, {"auto", SensitivityMethod::automatic}});
     if (s["error_control"]) o.sens_error_control = r.read_bool(s["error_control"], k2 + ".error_control");
     if (s["rhs"])
       o.sens_rhs = r.read_choice<SensitivityRhs>(s["rhs"], k2 + ".rhs",

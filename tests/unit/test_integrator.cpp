@@ -447,6 +447,24 @@ TEST(Integrator, AutoLinearSolverBySizeAndStiffness) {
   EXPECT_EQ(ks::integrate(slow, o, times, noop).linear_solver, ks::LinearSolver::automatic);  // no Newton
 }
 
+// sensitivity.method auto: staggered with projection, simultaneous otherwise; explicit choices kept.
+TEST(Integrator, AutoSensitivityMethodByProjection) {
+  using SM = ks::SensitivityMethod;
+  EXPECT_EQ(ks::resolve_sensitivity_method(SM::automatic, true), SM::staggered);
+  EXPECT_EQ(ks::resolve_sensitivity_method(SM::automatic, false), SM::simultaneous);
+  for (const SM m : {SM::simultaneous, SM::staggered, SM::staggered1})
+    for (const bool projection : {false, true}) EXPECT_EQ(ks::resolve_sensitivity_method(m, projection), m);
+  EXPECT_EQ(ks::SolverOptions{}.sensitivity_method, SM::automatic);
+
+  const std::vector<double> times{0, 0.5, 1};
+  auto noop = [](int, double, const double*, const double* const*) {};
+  ks::SolverOptions o;
+  Oscillator a(1, 0, 1, 0.4, 4);
+  EXPECT_EQ(ks::integrate(a, o, times, noop).sensitivity_method, SM::simultaneous);
+  o.sensitivity_method = SM::staggered1;
+  EXPECT_EQ(ks::integrate(a, o, times, noop).sensitivity_method, SM::staggered1);
+}
+
 // ---------- 2, 3, 4. failures are statuses ----------
 
 namespace {

@@ -36,6 +36,8 @@ int detail::sensitivity_method_flag(SensitivityMethod m) {
       return CV_STAGGERED;
     case SensitivityMethod::staggered1:
       return CV_STAGGERED1;
+    case SensitivityMethod::automatic:
+      break;  // resolved before CVODES sees it
   }
   return CV_STAGGERED;
 }
@@ -174,14 +176,14 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
     for (int i = 0; i < n_sens; ++i) N_VConst(0.0, yS[i]);
     // Exact right-hand sides all at once (one multi-tangent pass), except for staggered1, which
     // CVODES runs only with the one-at-a-time form.
-    if (o.sens_rhs == SensitivityRhs::exact && o.sensitivity_method != SensitivityMethod::staggered1) {
+    if (o.sens_rhs == SensitivityRhs::exact && sensitivity_method != SensitivityMethod::staggered1) {
       cb.s_in.assign(static_cast<std::size_t>(n_sens), nullptr);
       cb.s_out.assign(static_cast<std::size_t>(n_sens), nullptr);
-      check_flag(CVodeSensInit(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
+      check_flag(CVodeSensInit(mem.get(), n_sens, sensitivity_method_flag(sensitivity_method),
                                sens_rhs_all_trampoline, yS.get()),
                  "CVodeSensInit");
     } else {
-      check_flag(CVodeSensInit1(mem.get(), n_sens, sensitivity_method_flag(o.sensitivity_method),
+      check_flag(CVodeSensInit1(mem.get(), n_sens, sensitivity_method_flag(sensitivity_method),
                                 o.sens_rhs == SensitivityRhs::exact ? sens_rhs_trampoline : nullptr,
                                 yS.get()),
                  "CVodeSensInit1");
@@ -198,7 +200,7 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
     if (o.iteration == Iteration::functional) {
       // CVodeSensInit1 attaches Newton solvers for the sensitivities; functional iteration
       // needs fixed-point ones of the matching kind (cvsAdvDiff_FSA_non.c).
-      switch (o.sensitivity_method) {
+      switch (sensitivity_method) {
         case SensitivityMethod::simultaneous:
           NLS_sens.reset(SUNNonlinSol_FixedPointSens(n_sens + 1, y.get(), 0, ctx.get()));
           check_ptr(NLS_sens.get(), "SUNNonlinSol_FixedPointSens");
@@ -217,6 +219,8 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
           check_flag(CVodeSetNonlinearSolverSensStg1(mem.get(), NLS_sens.get()),
                      "CVodeSetNonlinearSolverSensStg1");
           break;
+        case SensitivityMethod::automatic:
+          break;  // resolved in integrate()
       }
     }
   }
@@ -254,7 +258,7 @@ void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, OdeEvent
   if (ns > 0) {
     for (int i = 0; i < ns; ++i) problem.initial_sensitivity(i, yS.data(i));
     check_flag(
-        CVodeSensReInit(mem.get(), sensitivity_method_flag(options.sensitivity_method), yS.get()),
+        CVodeSensReInit(mem.get(), sensitivity_method_flag(sensitivity_method), yS.get()),
         "CVodeSensReInit");
     pbar = problem.sensitivity_scales();
     double* p = nullptr;
@@ -308,7 +312,7 @@ SolverStats Integrator::Impl::collect_stats() const {
     check_flag(CVodeGetSensStats(m, &s.sens_rhs_evals, &s.rhs_evals_for_sens,
                                  &s.sens_error_test_fails, &setups),
                "CVodeGetSensStats");
-    if (options.sensitivity_method != SensitivityMethod::simultaneous) {
+    if (sensitivity_method != SensitivityMethod::simultaneous) {
       check_flag(CVodeGetSensNumNonlinSolvIters(m, &s.sens_nonlin_iters),
                  "CVodeGetSensNumNonlinSolvIters");
     }
@@ -343,9 +347,12 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   const bool with_projection = problem.has_projection();
   const int n_quad = quad ? quad->size() : 0;
   const LinearSolver linear_solver = im.choose_linear_solver(problem, times.front());
+  const SensitivityMethod sensitivity_method =
+      resolve_sensitivity_method(im.options.sensitivity_method, with_projection);
   if (!im.built || im.n != n_states || im.ns != n_sens || im.projection != with_projection || im.nquad != n_quad ||
-      im.linear_solver != linear_solver) {
+      im.linear_solver != linear_solver || im.sensitivity_method != sensitivity_method) {
     im.linear_solver = linear_solver;
+    im.sensitivity_method = sensitivity_method;
     im.build(n_states, n_sens, with_projection, n_quad, times.front());
   }
   im.reinit(problem, quad, events, times.front(), times.back());
@@ -358,6 +365,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
 
   IntegrationResult result;
   result.linear_solver = linear_solver;
+  if (n_sens > 0) result.sensitivity_method = sensitivity_method;
   void* m = im.mem.get();
   double* y = N_VGetArrayPointer(im.y.get());
   const double* const* s = n_sens > 0 ? im.s_pointers.data() : nullptr;

@@ -83,6 +83,9 @@ struct IntegrationResult {
   // The linear solver of Newton's iteration (dense or krylov, as options.linear_solver resolved
   // for this problem); automatic when there was none (functional iteration, dop853).
   LinearSolver linear_solver = LinearSolver::automatic;
+  // CVODES's sensitivity corrector (options.sensitivity_method resolved for this problem);
+  // automatic when there were no sensitivities or no CVODES (dop853).
+  SensitivityMethod sensitivity_method = SensitivityMethod::automatic;
   bool ok() const { return status == 1; }
 };
 

@@ -34,6 +34,7 @@ struct Integrator::Impl {
   int nquad = 0;
   bool projection = false;
   LinearSolver linear_solver = LinearSolver::dense;  // Newton's, resolved (automatic: no Newton)
+  SensitivityMethod sensitivity_method = SensitivityMethod::simultaneous;  // resolved
 
   // Declared in creation order; release() frees them in reverse (cvode_mem first).
   ContextPtr ctx;

@@ -69,7 +69,7 @@ void Integrator::Impl::integrate_stepwise(OdeProblem& problem, std::span<const d
     if (quad) quadrature.save(m, t);
     check_flag(CVodeReInit(m, t, y.get()), "CVodeReInit");
     if (ns > 0)
-      check_flag(CVodeSensReInit(m, sensitivity_method_flag(options.sensitivity_method), yS.get()), "CVodeSensReInit");
+      check_flag(CVodeSensReInit(m, sensitivity_method_flag(sensitivity_method), yS.get()), "CVodeSensReInit");
     if (quad) quadrature.restart(m);
     check_flag(CVodeSetStopTime(m, times.back()), "CVodeSetStopTime");
   }

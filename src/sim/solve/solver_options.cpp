@@ -88,6 +88,10 @@ LinearSolver resolve_linear_solver(LinearSolver option, int n, double jacobian_r
   if (option != LinearSolver::automatic) return option;
   return n >= kKrylovMinStates && jacobian_rate <= kKrylovMaxRate ? LinearSolver::krylov : LinearSolver::dense;
 }
+SensitivityMethod resolve_sensitivity_method(SensitivityMethod option, bool with_projection) {
+  if (option != SensitivityMethod::automatic) return option;
+  return with_projection ? SensitivityMethod::staggered : SensitivityMethod::simultaneous;
+}
 std::string_view to_string(SensitivityMethod s) {
   switch (s) {
     case SensitivityMethod::simultaneous:
@@ -96,6 +100,8 @@ std::string_view to_string(SensitivityMethod s) {
       return "staggered";
     case SensitivityMethod::staggered1:
       return "staggered1";
+    case SensitivityMethod::automatic:
+      return "auto";
   }
   return "?";
 }

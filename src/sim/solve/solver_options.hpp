@@ -17,7 +17,9 @@ enum class JacobianKind { exact, dq };        // OdeProblem::jacobian | CVODES d
 // CVODES's difference quotient with jacobian = dq), or chosen by the problem's size
 // (resolve_linear_solver).
 enum class LinearSolver { dense, krylov, automatic };
-enum class SensitivityMethod { simultaneous, staggered, staggered1 };  // CV_SIMULTANEOUS, ...
+// CVODES's sensitivity corrector: CV_SIMULTANEOUS, CV_STAGGERED, CV_STAGGERED1, or chosen by the
+// problem (resolve_sensitivity_method).
+enum class SensitivityMethod { simultaneous, staggered, staggered1, automatic };
 enum class SensitivityRhs { exact, dq };  // OdeProblem::sensitivity_rhs | CVODES internal DQ
 
 struct SolverOptions {
@@ -34,7 +36,7 @@ struct SolverOptions {
   double max_step = 0;      // 0 = unbounded
   JacobianKind jacobian = JacobianKind::exact;  // only with iteration = newton
   LinearSolver linear_solver = LinearSolver::automatic;  // only with iteration = newton
-  SensitivityMethod sensitivity_method = SensitivityMethod::staggered;
+  SensitivityMethod sensitivity_method = SensitivityMethod::automatic;
   bool sens_error_control = true;  // sensitivities take part in the local error test
   SensitivityRhs sens_rhs = SensitivityRhs::exact;
   // Absolute tolerance of every sensitivity (CVodeSensSStolerances with rtol). Unset: CVODES
@@ -68,6 +70,10 @@ inline constexpr double kKrylovMaxRate = 1e3;
 // The linear solver a Newton integration of n states uses: the option itself unless automatic;
 // jacobian_rate: the estimated spectral radius of J (needed only when n >= kKrylovMinStates).
 LinearSolver resolve_linear_solver(LinearSolver option, int n, double jacobian_rate = 0);
+// automatic: staggered with projection (the simultaneous corrector's sensitivities are then less
+// accurate: the finite-difference tests of projected sensitivities fail with it), simultaneous
+// otherwise (as fast or faster: docs/benchmarks.md); an explicit choice is kept.
+SensitivityMethod resolve_sensitivity_method(SensitivityMethod option, bool with_projection);
 std::string_view to_string(SensitivityMethod s);
 std::string_view to_string(SensitivityRhs s);
 
