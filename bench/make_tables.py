@@ -127,6 +127,12 @@ def sensitivity_cost_few_constrained():
     return printed(m.table, path) + source(path)
 
 
+def sensitivity_corrector():
+    import sensitivity_corrector as m
+    path = RESULTS / "sensitivity_corrector.json"
+    return printed(m.summary, path) + source(path)
+
+
 def multitangent():
     import multitangent_table as m
     return printed(m.table, RESULTS / "multitangent_kernels.json") + source(RESULTS / "multitangent_kernels.json")
@@ -798,6 +804,7 @@ TABLES = {
     "rhs_mujoco": rhs_mujoco, "rhs_paths": rhs_paths, "jacobian_cost": jacobian_cost,
     "sensitivity_cost": sensitivity_cost, "sensitivity_cost_few": sensitivity_cost_few,
     "sensitivity_cost_few_constrained": sensitivity_cost_few_constrained, "multitangent": multitangent, "outputs_cost": outputs_cost,
+    "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,
     "sensitivities": sensitivities_table, "constraints": constraints_table, "ensemble": ensemble_table,
     "peers_summary": peers_summary,
