@@ -277,13 +277,7 @@ bool solve_constrained_accelerations(const Model& m, Workspace<S>& ws) {
 }
 
 #define KANESENS_INSTANTIATE(S) template bool solve_constrained_accelerations<S>(const Model&, Workspace<S>&);
-KANESENS_INSTANTIATE(double)
-KANESENS_INSTANTIATE(Dual)
-KANESENS_INSTANTIATE(math::Dual2)
-KANESENS_INSTANTIATE(math::MultiDual<4>)
-KANESENS_INSTANTIATE(math::MultiDual<8>)
-KANESENS_INSTANTIATE(math::MultiDual<12>)
-KANESENS_INSTANTIATE(math::MultiDual<16>)
+KANESENS_FOR_EACH_DYNAMICS_SCALAR(KANESENS_INSTANTIATE)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

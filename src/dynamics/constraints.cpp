@@ -276,13 +276,7 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
   template S rolling_contact_height<S>(const Model&, const Workspace<S>&, const Constraint&);          \
   template void compute_constraints<S>(const Model&, Workspace<S>&, const S*, const S*,   \
                                        const DynamicsOptions&);
-KANESENS_INSTANTIATE(double)
-KANESENS_INSTANTIATE(Dual)
-KANESENS_INSTANTIATE(math::Dual2)
-KANESENS_INSTANTIATE(math::MultiDual<4>)
-KANESENS_INSTANTIATE(math::MultiDual<8>)
-KANESENS_INSTANTIATE(math::MultiDual<12>)
-KANESENS_INSTANTIATE(math::MultiDual<16>)
+KANESENS_FOR_EACH_DYNAMICS_SCALAR(KANESENS_INSTANTIATE)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

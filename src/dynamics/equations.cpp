@@ -261,13 +261,7 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
                                 const DynamicsOptions&, RhsFailure*);                           \
   template S kinetic_energy<S>(const Model&, const Workspace<S>&);                              \
   template S potential_energy<S>(const Model&, const Workspace<S>&, const S*);
-KANESENS_INSTANTIATE(double)
-KANESENS_INSTANTIATE(Dual)
-KANESENS_INSTANTIATE(math::Dual2)
-KANESENS_INSTANTIATE(math::MultiDual<4>)
-KANESENS_INSTANTIATE(math::MultiDual<8>)
-KANESENS_INSTANTIATE(math::MultiDual<12>)
-KANESENS_INSTANTIATE(math::MultiDual<16>)
+KANESENS_FOR_EACH_DYNAMICS_SCALAR(KANESENS_INSTANTIATE)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

@@ -170,13 +170,7 @@ void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q,
   template void compute_position<S>(const Model&, Workspace<S>&, const S*);                  \
   template void compute_velocity<S>(const Model&, Workspace<S>&, const S*);                  \
   template void compute_kinematic_derivatives<S>(const Model&, Workspace<S>&, const S*, const S*);
-KANESENS_INSTANTIATE(double)
-KANESENS_INSTANTIATE(Dual)
-KANESENS_INSTANTIATE(math::Dual2)
-KANESENS_INSTANTIATE(math::MultiDual<4>)
-KANESENS_INSTANTIATE(math::MultiDual<8>)
-KANESENS_INSTANTIATE(math::MultiDual<12>)
-KANESENS_INSTANTIATE(math::MultiDual<16>)
+KANESENS_FOR_EACH_DYNAMICS_SCALAR(KANESENS_INSTANTIATE)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

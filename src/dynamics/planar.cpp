@@ -173,13 +173,7 @@ void compute_forcing_planar(const Model& m, Workspace<S>& ws) {
   template void compute_velocity_planar<S>(const Model&, Workspace<S>&, const S*);     \
   template void compute_mass_matrix_planar<S>(const Model&, Workspace<S>&);            \
   template void compute_forcing_planar<S>(const Model&, Workspace<S>&);
-KANESENS_INSTANTIATE(double)
-KANESENS_INSTANTIATE(Dual)
-KANESENS_INSTANTIATE(math::Dual2)
-KANESENS_INSTANTIATE(math::MultiDual<4>)
-KANESENS_INSTANTIATE(math::MultiDual<8>)
-KANESENS_INSTANTIATE(math::MultiDual<12>)
-KANESENS_INSTANTIATE(math::MultiDual<16>)
+KANESENS_FOR_EACH_DYNAMICS_SCALAR(KANESENS_INSTANTIATE)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics::detail

@@ -142,19 +142,10 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
   ws.gravity = vec3(ws, m.gravity);
 }
 
-template struct Workspace<double>;
-template struct Workspace<Dual>;
-template void set_parameters<double>(const Model&, Workspace<double>&, const double*);
-template void set_parameters<Dual>(const Model&, Workspace<Dual>&, const Dual*);
-template struct Workspace<math::Dual2>;
-template void set_parameters<math::Dual2>(const Model&, Workspace<math::Dual2>&, const math::Dual2*);
-template struct Workspace<math::MultiDual<4>>;
-template void set_parameters<math::MultiDual<4>>(const Model&, Workspace<math::MultiDual<4>>&, const math::MultiDual<4>*);
-template struct Workspace<math::MultiDual<8>>;
-template void set_parameters<math::MultiDual<8>>(const Model&, Workspace<math::MultiDual<8>>&, const math::MultiDual<8>*);
-template struct Workspace<math::MultiDual<12>>;
-template void set_parameters<math::MultiDual<12>>(const Model&, Workspace<math::MultiDual<12>>&, const math::MultiDual<12>*);
-template struct Workspace<math::MultiDual<16>>;
-template void set_parameters<math::MultiDual<16>>(const Model&, Workspace<math::MultiDual<16>>&, const math::MultiDual<16>*);
+#define KANESENS_INSTANTIATE(S) \
+  template struct Workspace<S>;  \
+  template void set_parameters<S>(const Model&, Workspace<S>&, const S*);
+KANESENS_FOR_EACH_DYNAMICS_SCALAR(KANESENS_INSTANTIATE)
+#undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

@@ -9,6 +9,14 @@
 #include "math/spatial.hpp"
 #include "model/model.hpp"
 
+// The scalars the dynamics is compiled for: double, Dual (one tangent), Dual2 (second order:
+// eigenvalue and extremum sensitivities) and the multi-tangent widths of the blocked Jacobian and
+// sensitivity passes. Each .cpp instantiates its templates with
+// KANESENS_FOR_EACH_DYNAMICS_SCALAR(ITS_MACRO) (it includes math/dual2.hpp and math/multi_dual.hpp).
+#define KANESENS_FOR_EACH_DYNAMICS_SCALAR(X) \
+  X(double) X(Dual) X(math::Dual2) X(math::MultiDual<4>) X(math::MultiDual<8>) X(math::MultiDual<12>) \
+  X(math::MultiDual<16>)
+
 namespace kanesens::dynamics {
 
 // The vocabulary of the layers below: the scalar types and the algebra (math), the model.

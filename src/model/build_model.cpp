@@ -1,5 +1,6 @@
 #include "model/build_model.hpp"
 #include "model/joint_types.hpp"
+#include "model/speed_tree.hpp"
 
 #include <Eigen/Dense>
 #include <cmath>
@@ -235,31 +236,7 @@ class Builder {
       return depth[m_.joints[a].child] < depth[m_.joints[c].child];
     });
     m_.joint_order = order;
-    m_.ancestor_speeds.assign(nb, {});
-    for (int ji : order) {
-      const Joint& j = m_.joints[ji];
-      std::vector<int> speeds = j.parent >= 0 ? m_.ancestor_speeds[j.parent] : std::vector<int>{};
-      for (int k = 0; k < j.nu; ++k) speeds.push_back(j.u_offset + k);
-      m_.ancestor_speeds[j.child] = speeds;
-    }
-    m_.speed_parent.assign(static_cast<std::size_t>(m_.nu), -1);
-    m_.speed_order.clear();
-    for (int ji : order) {
-      const Joint& j = m_.joints[ji];
-      const std::vector<int>& speeds = m_.ancestor_speeds[j.child];  // ends with j's speeds
-      for (int k = 0; k < j.nu; ++k) {
-        const std::size_t at = speeds.size() - static_cast<std::size_t>(j.nu - k);
-        m_.speed_parent[static_cast<std::size_t>(j.u_offset + k)] = at > 0 ? speeds[at - 1] : -1;
-        m_.speed_order.push_back(j.u_offset + k);
-      }
-    }
-    m_.moves.assign(nb, std::vector<unsigned char>(m_.nu, 0));
-    for (int b = 0; b < nb; ++b)
-      for (int k : m_.ancestor_speeds[b]) m_.moves[b][k] = 1;
-    for (int ji : order) {
-      const Joint& j = m_.joints[ji];
-      m_.bodies[j.child].root_joint = j.parent >= 0 ? m_.bodies[j.parent].root_joint : ji;
-    }
+    derive_speed_tree(m_);
   }
 
   void build_state_names() {
