@@ -34,29 +34,45 @@ void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
     const Joint& J = m.joints[*it];
     if (J.parent >= 0) ws.composite_inertia[J.child].add_to_parent(ws.joint_offset[*it], ws.composite_inertia[J.parent]);
   }
-  // M_kl = s_k · (I^c_C s_l) for every speed k moving C, the momentum I^c_C s_l carried from Q_C
-  // to each ancestor's reference point on the way to the root.
+  // M_kl = s_k · (I^c_C s_l) for every speed k moving C (the ancestors of l along
+  // Model::speed_parent), the momentum I^c_C s_l = (τ, f) carried from Q_C to each ancestor's
+  // reference point on the way to the root: f stays, τ gains r × f for each offset r passed.
+  const int* parent = m.speed_parent.data();
+  for (const Joint& J : m.joints) {
+    if (J.nu == 0) continue;
+    Vec3<S>& r0 = ws.speed_offset[J.u_offset];
+    r0.setZero();
+    if (parent[J.u_offset] >= 0)  // to the nearest ancestor body whose joint has speeds
+      for (int b = J.child;;) {
+        const int jb = m.bodies[b].joint;
+        r0 += ws.joint_offset[jb];
+        b = m.joints[jb].parent;
+        if (m.joints[m.bodies[b].joint].nu > 0) break;
+      }
+  }
+  S* M = ws.mass_matrix.data();
+  const std::ptrdiff_t ld = ws.mass_matrix.rows();
+  const Vec3<S>* offset = ws.speed_offset.data();
+  const Vec6<S>* s = ws.partial.data();
+  const unsigned char* rotation = m.speed_rotation.data();
   for (const Joint& J : m.joints) {
     const SpatialInertia<S>& Ic = ws.composite_inertia[J.child];
     for (int l = J.u_offset; l < J.u_offset + J.nu; ++l) {
-      const bool rot_l = J.speeds[l - J.u_offset].rotation;
-      Vec6<S> F = rot_l ? Ic.times_rotation(ws.partial[l].template head<3>())
-                        : Ic.times_translation(ws.partial[l].template tail<3>());
-      for (int k = J.u_offset; k <= l; ++k) {
-        const S Mkl = power(ws.partial[k], J.speeds[k - J.u_offset].rotation, F);
-        ws.mass_matrix(k, l) = Mkl;
-        ws.mass_matrix(l, k) = Mkl;
-      }
-      for (int b = J.child; m.bodies[b].parent >= 0;) {
-        const int jb = m.bodies[b].joint;
-        F.template head<3>() += ws.joint_offset[jb].cross(F.template tail<3>());
-        b = m.bodies[b].parent;
-        const Joint& K = m.joints[m.bodies[b].joint];
-        for (int k = K.u_offset; k < K.u_offset + K.nu; ++k) {
-          const S Mkl = power(ws.partial[k], K.speeds[k - K.u_offset].rotation, F);
-          ws.mass_matrix(k, l) = Mkl;
-          ws.mass_matrix(l, k) = Mkl;
-        }
+      const Vec6<S> F = J.speeds[l - J.u_offset].rotation ? Ic.times_rotation(s[l].template head<3>())
+                                                          : Ic.times_translation(s[l].template tail<3>());
+      const S fx = F[3], fy = F[4], fz = F[5];
+      S tx = F[0], ty = F[1], tz = F[2];
+      M[l * ld + l] = s[l].dot(F);
+      S* Ml = M + l * ld;
+      for (int kp = l, k = parent[l]; k >= 0; kp = k, k = parent[k]) {
+        const Vec3<S>& r = offset[kp];
+        tx += r[1] * fz - r[2] * fy;
+        ty += r[2] * fx - r[0] * fz;
+        tz += r[0] * fy - r[1] * fx;
+        const S* sk = s[k].data();
+        const S Mkl = rotation[k] ? S(sk[0] * tx + sk[1] * ty + sk[2] * tz) : S(sk[3] * fx + sk[4] * fy + sk[5] * fz);
+        Ml[k] = Mkl;
+        M[k * ld + l] = Mkl;
       }
     }
   }

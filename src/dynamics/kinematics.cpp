@@ -33,6 +33,25 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
     const S* qj = q + J.q_offset;
     const Vec3<S>& a = ws.joint_axis[ji];
     Mat3<S>& R_C = ws.R[C];
+    if (const int i = ws.joint_axis_index[ji]; J.type == JointType::revolute && i >= 0) {
+      // The common case in straight-line code: a revolute about a coordinate axis e_i of the
+      // parent (and of the child: column i is shared) with no travel.
+      using std::cos, std::sin;
+      math::rotate_about_coordinate_axis<S>(R_P, i, cos(qj[0]), sin(qj[0]), R_C);
+      if (P >= 0) {
+        Vec3<S>& r = ws.joint_offset[ji];
+        r.noalias() = R_P * ws.joint_lever[ji];
+        ws.tree_position[C] = ws.tree_position[P] + r;
+      } else {
+        ws.tree_anchor[ji] = ws.joint_lever[ji];
+        ws.tree_position[C].setZero();
+      }
+      Vec6<S>& s = ws.partial[J.u_offset];
+      s.template head<3>() = R_P.col(i);
+      s.template tail<3>().setZero();
+      rotate_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
+      continue;
+    }
     auto rotate = [&](const Mat3<S>& R_PC) {  // R_C = R_P R_PC
       if (P >= 0) R_C.noalias() = R_P * R_PC;
       else R_C = R_PC;

@@ -38,6 +38,7 @@ Workspace<S>::Workspace(const Model& m)
       velocity(m.nbody()),
       bias_acceleration(m.nbody()),
       composite_inertia(m.nbody()),
+      speed_offset(m.nu, Vec3<S>::Zero()),
       wrench(m.nbody()),
       mass_matrix(m.nu, m.nu),
       forcing(m.nu),

@@ -98,6 +98,8 @@ struct Workspace {
 
   // Dynamics.
   std::vector<SpatialInertia<S>> composite_inertia;  // nb: subtree spatial inertia at Q_b (3-D)
+  std::vector<Vec3<S>> speed_offset;  // nu: Q of speed k's body − Q of Model::speed_parent[k]'s
+                                      //     (0 on the same body or a root; 3-D mass matrix)
   std::vector<Vec6<S>> wrench;     // nb: applied minus inertial (u̇ = 0) force vector at Q_b,
                                    //     then summed over the subtree
   bool mass_matrix_full = false;   // every pair of speeds moves a common body (a chain): no zeros

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 
 #include "math/dual.hpp"
 
@@ -29,6 +30,26 @@ S dot(const S* a, const S* b, int n) {
   using V = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   return Eigen::Map<const V>(a, n).dot(Eigen::Map<const V>(b, n));
 }
+
+// s[c] = Σ_{k<n} a_k b_c[k] for C columns b_c = b + c ldb in one sweep of a, two terms at a time
+// (explicit 2-wide vectors: the compiler keeps a loop's order of additions and would not pair
+// them itself). For the short columns of these factors the fixed cost of a dot product is a
+// large part of it; C at once divide it by C and share a's loads.
+template <int C>
+EIGEN_ALWAYS_INLINE void dots(const double* a, const double* b, std::ptrdiff_t ldb, int n, double* s) {
+  using P = Eigen::Matrix<double, 2, 1>;
+  P acc[C];
+  for (int c = 0; c < C; ++c) acc[c].setZero();
+  int k = 0;
+  for (; k + 2 <= n; k += 2) {
+    const P x = Eigen::Map<const P>(a + k);
+    for (int c = 0; c < C; ++c) acc[c] += x.cwiseProduct(Eigen::Map<const P>(b + c * ldb + k));
+  }
+  for (int c = 0; c < C; ++c) {
+    s[c] = acc[c][0] + acc[c][1];
+    if (k < n) s[c] += a[k] * b[c * ldb + k];
+  }
+}
 }  // namespace detail
 
 // Reads the upper triangle of the n×n matrix A (leading dimension lda) and writes U into the
@@ -39,11 +60,31 @@ bool cholesky_factor(const S* A, std::ptrdiff_t lda, S* U, std::ptrdiff_t ldu, i
   using std::sqrt;
   for (int j = 0; j < n; ++j) {
     S* Uj = U + j * ldu;
-    const S d = A[j * lda + j] - dot(Uj, Uj, j);
+    S d = A[j * lda + j];
+    if constexpr (std::is_same_v<S, double>) {
+      double s[1];
+      detail::dots<1>(Uj, Uj, 0, j, s);
+      d -= s[0];
+    } else {
+      d -= dot(Uj, Uj, j);
+    }
     if (!(value_of(d) > 0)) return false;
     Uj[j] = sqrt(d);
     const S inv = S(1) / Uj[j];
-    for (int i = j + 1; i < n; ++i) {
+    int i = j + 1;
+    if constexpr (std::is_same_v<S, double>) {
+      for (; i + 4 <= n; i += 4) {
+        double s[4];
+        detail::dots<4>(Uj, U + i * ldu, ldu, j, s);
+        for (int c = 0; c < 4; ++c) U[(i + c) * ldu + j] = (A[(i + c) * lda + j] - s[c]) * inv;
+      }
+      for (; i < n; ++i) {
+        double s[1];
+        detail::dots<1>(Uj, U + i * ldu, ldu, j, s);
+        U[i * ldu + j] = (A[i * lda + j] - s[0]) * inv;
+      }
+    }
+    for (; i < n; ++i) {
       S* Ui = U + i * ldu;
       Ui[j] = (A[i * lda + j] - dot(Uj, Ui, j)) * inv;
     }
@@ -56,6 +97,21 @@ template <class S>
 void cholesky_solve(const S* U, std::ptrdiff_t ldu, int n, S* x) {
   using detail::dot;
   using V = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  if constexpr (std::is_same_v<S, double>) {
+    for (int i = 0; i < n; ++i) {
+      const double* Ui = U + i * ldu;
+      double s[1];
+      detail::dots<1>(Ui, x, 0, i, s);
+      x[i] = (x[i] - s[0]) / Ui[i];
+    }
+    for (int i = n - 1; i >= 0; --i) {
+      const double* Ui = U + i * ldu;
+      const double xi = x[i] / Ui[i];
+      x[i] = xi;
+      for (int k = 0; k < i; ++k) x[k] -= xi * Ui[k];
+    }
+    return;
+  }
   for (int i = 0; i < n; ++i) {
     const S* Ui = U + i * ldu;
     x[i] = (x[i] - dot(Ui, x, i)) / Ui[i];

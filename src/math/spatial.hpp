@@ -53,14 +53,22 @@ Mat3<S> axis_angle(const Vec3<S>& a, const S& q) {
 // R_P R(e_i, q): a rotation about a coordinate axis e_i leaves column i and mixes the other two
 // (c, s = cos q, sin q) — 12 multiplications instead of the 27 of R_P times axis_angle, with the
 // same rounding (the other products are by exact zeros and ones).
-template <class S>
-void rotate_about_coordinate_axis(const Mat3<S>& R_P, int i, const S& c, const S& s, Mat3<S>& R_C) {
-  const int j = (i + 1) % 3, k = (i + 2) % 3;
+template <int i, class S>
+void rotate_about_coordinate_axis(const Mat3<S>& R_P, const S& c, const S& s, Mat3<S>& R_C) {
+  constexpr int j = (i + 1) % 3, k = (i + 2) % 3;
   R_C.col(i) = R_P.col(i);
   for (int r = 0; r < 3; ++r) {
     const S pj = R_P(r, j), pk = R_P(r, k);
     R_C(r, j) = pj * c + pk * s;
     R_C(r, k) = pk * c - pj * s;
+  }
+}
+template <class S>
+void rotate_about_coordinate_axis(const Mat3<S>& R_P, int i, const S& c, const S& s, Mat3<S>& R_C) {
+  switch (i) {  // constant column indices: straight-line code
+    case 0: return rotate_about_coordinate_axis<0>(R_P, c, s, R_C);
+    case 1: return rotate_about_coordinate_axis<1>(R_P, c, s, R_C);
+    default: return rotate_about_coordinate_axis<2>(R_P, c, s, R_C);
   }
 }
 
@@ -196,13 +204,21 @@ template <class S>
 void rotate_inertia(const SpatialInertia<S>& X, const Mat3<S>& R, SpatialInertia<S>& out) {
   out.m = X.m;
   out.h.noalias() = R * X.h;
-  Mat3<S> T;
-  T.noalias() = R * X.I;
+  // T = R I from I's 6 distinct entries, then the upper triangle of T Rᵀ, in scalars (no 3×3
+  // temporaries): 45 multiplications.
+  const S a = X.I(0, 0), b = X.I(1, 1), c = X.I(2, 2), d = X.I(0, 1), e = X.I(1, 2), f = X.I(0, 2);
+  S T[3][3];
+  for (int i = 0; i < 3; ++i) {
+    const S r0 = R(i, 0), r1 = R(i, 1), r2 = R(i, 2);
+    T[i][0] = r0 * a + r1 * d + r2 * f;
+    T[i][1] = r0 * d + r1 * b + r2 * e;
+    T[i][2] = r0 * f + r1 * e + r2 * c;
+  }
   for (int i = 0; i < 3; ++i)
     for (int j = i; j < 3; ++j) {
-      const S x = T(i, 0) * R(j, 0) + T(i, 1) * R(j, 1) + T(i, 2) * R(j, 2);
+      const S x = T[i][0] * R(j, 0) + T[i][1] * R(j, 1) + T[i][2] * R(j, 2);
       out.I(i, j) = x;
-      out.I(j, i) = x;
+      if (j != i) out.I(j, i) = x;
     }
 }
 

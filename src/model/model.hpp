@@ -119,6 +119,7 @@ struct Model {
   // ancestor joint that has speeds; −1 on a root), speed_order lists the speeds parents first.
   std::vector<int> speed_parent;  // nu
   std::vector<int> speed_order;   // nu
+  std::vector<unsigned char> speed_rotation;  // nu: 1 if the speed's partial velocity is a rotation
   std::vector<Force> forces;
   std::vector<Constraint> constraints;
   int nconstraint_rows = 0;                      // m
