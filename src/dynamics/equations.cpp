@@ -86,13 +86,18 @@ void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
     const int nb = m.nbody();
     // Applied minus inertial wrench of each body at its Q: gravity m g at the mass center
     // (moment h × g), then −(I A₀ + V ×* I V).
+    const Vec3<S> g = ws.gravity;
     for (int b = 0; b < nb; ++b) {
-      const Vec6<S>& V = ws.velocity[b];
       const SpatialInertia<S>& I = ws.spatial_inertia[b];
+      const Vec3<S> w = ws.velocity[b].template head<3>(), v = ws.velocity[b].template tail<3>();
+      const Vec3<S> al = ws.bias_acceleration[b].template head<3>(), a = ws.bias_acceleration[b].template tail<3>();
+      // Momentum I V = (L, p), then (τ, F) = (h × g, m g) − I A − V ×* (L, p), with
+      // V ×* (L, p) = (ω × L + v × p, ω × p).
+      const Vec3<S> L = I.I * w + I.h.cross(v);
+      const Vec3<S> p = I.m * v - I.h.cross(w);
       Vec6<S>& W = ws.wrench[b];
-      W.template head<3>() = I.h.cross(ws.gravity);
-      W.template tail<3>() = I.m * ws.gravity;
-      W -= I * ws.bias_acceleration[b] + cross_force<S>(V, I * V);
+      W.template head<3>() = I.h.cross(g - a) - I.I * al - w.cross(L) - v.cross(p);
+      W.template tail<3>() = I.m * (g - a) + I.h.cross(al) - w.cross(p);
     }
     detail::for_each_force_element(m, ws, [&](int b, const Vec6<S>& w) { ws.wrench[b] += w; });
     for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {

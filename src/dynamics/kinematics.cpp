@@ -128,6 +128,34 @@ void compute_velocity(const Model& m, Workspace<S>& ws, const S* u) {
     // prefix[c] = V_P + Σ_{k<c} s_k u_k at Q_C; prefix[nu] is the child's velocity.
     Vec6<S>* prefix = ws.prefix.data();
     Vec6<S>& A = ws.bias_acceleration[C];
+    if (J.nu == 1 && J.speeds[0].carriers == 0 && P >= 0) {
+      // One speed about (along) an axis fixed in the parent: V_C = V_P at Q_C + s u,
+      // A_C = A_P at Q_C + V_P at Q_C × s u, in 3-vectors.
+      const Vec3<S>& r = ws.joint_offset[ji];
+      const Vec6<S>& VP = ws.velocity[P];
+      const Vec6<S>& AP = ws.bias_acceleration[P];
+      const Vec3<S> w = VP.template head<3>();
+      const Vec3<S> v = VP.template tail<3>() + w.cross(r);
+      const Vec3<S> al = AP.template head<3>();
+      const Vec3<S> ac = AP.template tail<3>() + al.cross(r);
+      Vec6<S>& V = ws.velocity[C];
+      const S uk = u[J.u_offset];
+      const Vec6<S>& sk = ws.partial[J.u_offset];
+      if (J.speeds[0].rotation) {
+        const Vec3<S> au = sk.template head<3>() * uk;
+        V.template head<3>() = w + au;
+        V.template tail<3>() = v;
+        A.template head<3>() = al + w.cross(au);
+        A.template tail<3>() = ac + v.cross(au);
+      } else {
+        const Vec3<S> au = sk.template tail<3>() * uk;
+        V.template head<3>() = w;
+        V.template tail<3>() = v + au;
+        A.template head<3>() = al;
+        A.template tail<3>() = ac + w.cross(au);
+      }
+      continue;
+    }
     if (P >= 0) {
       prefix[0] = motion_to_child<S>(ws.velocity[P], ws.joint_offset[ji]);
       A = motion_to_child<S>(ws.bias_acceleration[P], ws.joint_offset[ji]);
