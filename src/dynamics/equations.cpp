@@ -55,25 +55,57 @@ void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
   const Vec3<S>* offset = ws.speed_offset.data();
   const Vec6<S>* s = ws.partial.data();
   const unsigned char* rotation = m.speed_rotation.data();
-  for (const Joint& J : m.joints) {
-    const SpatialInertia<S>& Ic = ws.composite_inertia[J.child];
-    for (int l = J.u_offset; l < J.u_offset + J.nu; ++l) {
-      const Vec6<S> F = J.speeds[l - J.u_offset].rotation ? Ic.times_rotation(s[l].template head<3>())
-                                                          : Ic.times_translation(s[l].template tail<3>());
+  // I^c s_l at l's body, and its power with s_l.
+  auto momentum = [&](int l) -> Vec6<S> {
+    const SpatialInertia<S>& Ic = ws.composite_inertia[m.speed_body[l]];
+    return rotation[l] ? Ic.times_rotation(s[l].template head<3>()) : Ic.times_translation(s[l].template tail<3>());
+  };
+  auto power = [&](int k, const S& tx, const S& ty, const S& tz, const S& fx, const S& fy, const S& fz) -> S {
+    const S* sk = s[k].data();
+    return rotation[k] ? S(sk[0] * tx + sk[1] * ty + sk[2] * tz) : S(sk[3] * fx + sk[4] * fy + sk[5] * fz);
+  };
+  using P2 = Eigen::Array<S, 2, 1>;  // columns l, l2 side by side (vector operations on double)
+  for (const auto& [l, l2] : ws.mass_matrix_columns) {
+    const Vec6<S> F = momentum(l);
+    M[l * ld + l] = power(l, F[0], F[1], F[2], F[3], F[4], F[5]);
+    if (l2 < 0) {
       const S fx = F[3], fy = F[4], fz = F[5];
       S tx = F[0], ty = F[1], tz = F[2];
-      M[l * ld + l] = s[l].dot(F);
-      S* Ml = M + l * ld;
       for (int kp = l, k = parent[l]; k >= 0; kp = k, k = parent[k]) {
         const Vec3<S>& r = offset[kp];
         tx += r[1] * fz - r[2] * fy;
         ty += r[2] * fx - r[0] * fz;
         tz += r[0] * fy - r[1] * fx;
-        const S* sk = s[k].data();
-        const S Mkl = rotation[k] ? S(sk[0] * tx + sk[1] * ty + sk[2] * tz) : S(sk[3] * fx + sk[4] * fy + sk[5] * fz);
-        Ml[k] = Mkl;
+        const S Mkl = power(k, tx, ty, tz, fx, fy, fz);
+        M[l * ld + k] = Mkl;
         M[k * ld + l] = Mkl;
       }
+      continue;
+    }
+    Vec6<S> F2 = momentum(l2);
+    M[l2 * ld + l2] = power(l2, F2[0], F2[1], F2[2], F2[3], F2[4], F2[5]);
+    {
+      const Vec3<S>& r = offset[l2];
+      F2[0] += r[1] * F2[5] - r[2] * F2[4];
+      F2[1] += r[2] * F2[3] - r[0] * F2[5];
+      F2[2] += r[0] * F2[4] - r[1] * F2[3];
+      const S Mll2 = power(l, F2[0], F2[1], F2[2], F2[3], F2[4], F2[5]);
+      M[l2 * ld + l] = Mll2;
+      M[l * ld + l2] = Mll2;
+    }
+    const P2 fx(F[3], F2[3]), fy(F[4], F2[4]), fz(F[5], F2[5]);
+    P2 tx(F[0], F2[0]), ty(F[1], F2[1]), tz(F[2], F2[2]);
+    for (int kp = l, k = parent[l]; k >= 0; kp = k, k = parent[k]) {
+      const Vec3<S>& r = offset[kp];
+      tx += r[1] * fz - r[2] * fy;
+      ty += r[2] * fx - r[0] * fz;
+      tz += r[0] * fy - r[1] * fx;
+      const S* sk = s[k].data();
+      const P2 Mk = rotation[k] ? P2(sk[0] * tx + sk[1] * ty + sk[2] * tz) : P2(sk[3] * fx + sk[4] * fy + sk[5] * fz);
+      M[l * ld + k] = Mk[0];
+      M[l2 * ld + k] = Mk[1];
+      M[k * ld + l] = Mk[0];
+      M[k * ld + l2] = Mk[1];
     }
   }
 }

@@ -69,6 +69,18 @@ Workspace<S>::Workspace(const Model& m)
       bias_planar(m.nbody()),
       wrench_planar(m.nbody()),
       prefix(7) {
+  {
+    std::vector<unsigned char> used(static_cast<std::size_t>(m.nu), 0);
+    for (int l : m.speed_order) {
+      if (used[static_cast<std::size_t>(l)]) continue;
+      used[static_cast<std::size_t>(l)] = 1;
+      int l2 = -1;
+      for (int k = 0; k < m.nu && l2 < 0; ++k)
+        if (m.speed_parent[static_cast<std::size_t>(k)] == l && !used[static_cast<std::size_t>(k)]) l2 = k;
+      if (l2 >= 0) used[static_cast<std::size_t>(l2)] = 1;
+      mass_matrix_columns.push_back({l, l2});
+    }
+  }
   bool general = false;
   for (const Constraint& c : m.constraints) general = general || c.kind == Constraint::Kind::general;
   if (general) {

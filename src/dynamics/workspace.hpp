@@ -2,6 +2,7 @@
 // derivatives). Allocated once (constructor); the evaluation functions never allocate.
 // Sizes in comments: nb bodies, nj joints, nu speeds.
 #pragma once
+#include <array>
 #include <vector>
 
 #include "math/dual.hpp"
@@ -100,6 +101,9 @@ struct Workspace {
   std::vector<SpatialInertia<S>> composite_inertia;  // nb: subtree spatial inertia at Q_b (3-D)
   std::vector<Vec3<S>> speed_offset;  // nu: Q of speed k's body − Q of Model::speed_parent[k]'s
                                       //     (0 on the same body or a root; 3-D mass matrix)
+  // The 3-D mass matrix's columns in pairs (l, l2) with speed_parent[l2] = l, which share their
+  // walk to the root (l2 = −1: l alone); every speed once.
+  std::vector<std::array<int, 2>> mass_matrix_columns;
   std::vector<Vec6<S>> wrench;     // nb: applied minus inertial (u̇ = 0) force vector at Q_b,
                                    //     then summed over the subtree
   bool mass_matrix_full = false;   // every pair of speeds moves a common body (a chain): no zeros

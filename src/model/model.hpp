@@ -120,6 +120,7 @@ struct Model {
   std::vector<int> speed_parent;  // nu
   std::vector<int> speed_order;   // nu
   std::vector<unsigned char> speed_rotation;  // nu: 1 if the speed's partial velocity is a rotation
+  std::vector<int> speed_body;    // nu: the body the speed's joint moves (its child)
   std::vector<Force> forces;
   std::vector<Constraint> constraints;
   int nconstraint_rows = 0;                      // m

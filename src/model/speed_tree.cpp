@@ -17,9 +17,13 @@ void derive_speed_tree(Model& m) {
   }
   m.speed_parent.assign(static_cast<std::size_t>(m.nu), -1);
   m.speed_rotation.assign(static_cast<std::size_t>(m.nu), 0);
+  m.speed_body.assign(static_cast<std::size_t>(m.nu), -1);
   for (const Joint& j : m.joints)
-    for (int k = 0; k < j.nu; ++k)
-      m.speed_rotation[static_cast<std::size_t>(j.u_offset + k)] = j.speeds[static_cast<std::size_t>(k)].rotation ? 1 : 0;
+    for (int k = 0; k < j.nu; ++k) {
+      const auto s = static_cast<std::size_t>(j.u_offset + k);
+      m.speed_rotation[s] = j.speeds[static_cast<std::size_t>(k)].rotation ? 1 : 0;
+      m.speed_body[s] = j.child;
+    }
   m.speed_order.clear();
   for (int ji : order) {
     const Joint& j = m.joints[ji];
