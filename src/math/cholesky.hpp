@@ -50,6 +50,80 @@ EIGEN_ALWAYS_INLINE void dots(const double* a, const double* b, std::ptrdiff_t l
     if (k < n) s[c] += a[k] * b[c * ldb + k];
   }
 }
+
+// The same for two rows a0, a1 at once: s0[c] = Σ a0_k b_c[k], s1[c] = Σ a1_k b_c[k].
+template <int C>
+EIGEN_ALWAYS_INLINE void dots2(const double* a0, const double* a1, const double* b, std::ptrdiff_t ldb, int n,
+                               double* s0, double* s1) {
+  using P = Eigen::Matrix<double, 2, 1>;
+  P acc0[C], acc1[C];
+  for (int c = 0; c < C; ++c) {
+    acc0[c].setZero();
+    acc1[c].setZero();
+  }
+  int k = 0;
+  for (; k + 2 <= n; k += 2) {
+    const P x0 = Eigen::Map<const P>(a0 + k), x1 = Eigen::Map<const P>(a1 + k);
+    for (int c = 0; c < C; ++c) {
+      const P y = Eigen::Map<const P>(b + c * ldb + k);
+      acc0[c] += x0.cwiseProduct(y);
+      acc1[c] += x1.cwiseProduct(y);
+    }
+  }
+  for (int c = 0; c < C; ++c) {
+    s0[c] = acc0[c][0] + acc0[c][1];
+    s1[c] = acc1[c][0] + acc1[c][1];
+    if (k < n) {
+      s0[c] += a0[k] * b[c * ldb + k];
+      s1[c] += a1[k] * b[c * ldb + k];
+    }
+  }
+}
+
+// Rows j and j + 1 of U (double): the 2×2 diagonal block, then C columns at a time with dots2.
+// False if a pivot is not positive.
+inline bool cholesky_two_rows(const double* A, std::ptrdiff_t lda, double* U, std::ptrdiff_t ldu, int n, int j) {
+  double* U0 = U + j * ldu;
+  double* U1 = U0 + ldu;
+  double s[2];
+  dots<2>(U0, U0, ldu, j, s);  // U0·U0, U0·U1 (column j + 1 down to row j − 1)
+  const double d0 = A[j * lda + j] - s[0];
+  if (!(d0 > 0)) return false;
+  U0[j] = std::sqrt(d0);
+  const double inv0 = 1.0 / U0[j];
+  const double a01 = A[(j + 1) * lda + j];
+  U1[j] = (a01 - s[1]) * inv0;
+  double t[1];
+  dots<1>(U1, U1, 0, j, t);
+  const double d1 = A[(j + 1) * lda + j + 1] - t[0] - U1[j] * U1[j];
+  if (!(d1 > 0)) return false;
+  U1[j + 1] = std::sqrt(d1);
+  const double inv1 = 1.0 / U1[j + 1];
+  const double u01 = U1[j];
+  auto finish = [&](int i, int C, const double* s0, const double* s1) {
+    for (int c = 0; c < C; ++c) {
+      double* Ui = U + (i + c) * ldu;
+      const double* Ai = A + (i + c) * lda;
+      const double a0 = Ai[j], a1 = Ai[j + 1];
+      const double x = (a0 - s0[c]) * inv0;
+      Ui[j] = x;
+      Ui[j + 1] = (a1 - s1[c] - u01 * x) * inv1;
+    }
+  };
+  int i = j + 2;
+  double s0[4], s1[4];
+  for (; i + 4 <= n; i += 4) {
+    dots2<4>(U0, U1, U + i * ldu, ldu, j, s0, s1);
+    finish(i, 4, s0, s1);
+  }
+  switch (n - i) {
+    case 3: dots2<3>(U0, U1, U + i * ldu, ldu, j, s0, s1); finish(i, 3, s0, s1); break;
+    case 2: dots2<2>(U0, U1, U + i * ldu, ldu, j, s0, s1); finish(i, 2, s0, s1); break;
+    case 1: dots2<1>(U0, U1, U + i * ldu, ldu, j, s0, s1); finish(i, 1, s0, s1); break;
+    default: break;
+  }
+  return true;
+}
 }  // namespace detail
 
 // Reads the upper triangle of the n×n matrix A (leading dimension lda) and writes U into the
@@ -58,7 +132,13 @@ template <class S>
 bool cholesky_factor(const S* A, std::ptrdiff_t lda, S* U, std::ptrdiff_t ldu, int n) {
   using detail::dot;
   using std::sqrt;
-  for (int j = 0; j < n; ++j) {
+  int j0 = 0;
+  if constexpr (std::is_same_v<S, double>) {
+    // Two rows at a time: each column's entries of both rows from one sweep of the column.
+    for (; j0 + 2 <= n; j0 += 2)
+      if (!detail::cholesky_two_rows(A, lda, U, ldu, n, j0)) return false;
+  }
+  for (int j = j0; j < n; ++j) {
     S* Uj = U + j * ldu;
     S d = A[j * lda + j];
     if constexpr (std::is_same_v<S, double>) {
@@ -78,11 +158,14 @@ bool cholesky_factor(const S* A, std::ptrdiff_t lda, S* U, std::ptrdiff_t ldu, i
         detail::dots<4>(Uj, U + i * ldu, ldu, j, s);
         for (int c = 0; c < 4; ++c) U[(i + c) * ldu + j] = (A[(i + c) * lda + j] - s[c]) * inv;
       }
-      for (; i < n; ++i) {
-        double s[1];
-        detail::dots<1>(Uj, U + i * ldu, ldu, j, s);
-        U[i * ldu + j] = (A[i * lda + j] - s[0]) * inv;
+      double s[3];
+      switch (n - i) {  // the last one to three columns at once
+        case 3: detail::dots<3>(Uj, U + i * ldu, ldu, j, s); break;
+        case 2: detail::dots<2>(Uj, U + i * ldu, ldu, j, s); break;
+        case 1: detail::dots<1>(Uj, U + i * ldu, ldu, j, s); break;
+        default: break;
       }
+      for (int c = 0; i < n; ++i, ++c) U[i * ldu + j] = (A[i * lda + j] - s[c]) * inv;
     }
     for (; i < n; ++i) {
       S* Ui = U + i * ldu;
