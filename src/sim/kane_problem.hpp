@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "dynamics/embedding.hpp"
+#include "dynamics/inverse_dynamics.hpp"
 #include "dynamics/options.hpp"
 #include "math/dual.hpp"
 #include "sim/constraint_options.hpp"
@@ -59,8 +60,24 @@ class KaneProblem final : public OdeProblem {
   void rhs(double t, const double* y, double* ydot) override;
   bool has_jacobian() const override { return true; }
   void jacobian(double t, const double* y, const double* ydot, double* J) override;
-  // J v from one pass of the right-hand side on Dual with tangent v on y (no parameter tangent):
-  // the same equations, constraint paths and partition as rhs().
+  // How jacobian() differentiates u̇ = M⁻¹(f + Aᵀλ):
+  //   residual   (the default) one multi-tangent pass of Kane's equations as a residual at the
+  //              accelerations of ydot (= f(t, y), as the contract says: inverse dynamics,
+  //              dynamics/inverse_dynamics.hpp), then solves with M's and A M⁻¹ Aᵀ's factors on
+  //              values; the mass matrix is never formed on the tangent scalar. With the
+  //              multipliers formulation (or no constraint) where the constraint rows are
+  //              independent and ydot is consistent with y (checked: the residual's value
+  //              vanishes); otherwise whole_rhs.
+  //   whole_rhs  multi-tangent passes of the whole right-hand side: the embedding formulation,
+  //              redundant constraint rows, and tests comparing the two.
+  // Both are exact and agree to round-off.
+  enum class JacobianMethod { residual, whole_rhs };
+  void set_jacobian_method(JacobianMethod method) { jacobian_method_ = method; }
+  // The method the last jacobian() call took.
+  JacobianMethod last_jacobian_method() const { return last_jacobian_method_; }
+  // J v from one pass on Dual with tangent v on y (no parameter tangent), by the method of
+  // jacobian() (residual: of Kane's equations at the accelerations of ydot; whole_rhs: of the
+  // right-hand side): the same equations, constraint paths and partition as rhs().
   bool has_jacobian_times() const override { return true; }
   void jacobian_times(double t, const double* y, const double* ydot, const double* v, double* Jv) override;
   int num_sensitivities() const override { return static_cast<int>(sens_.size()); }
@@ -169,6 +186,23 @@ class KaneProblem final : public OdeProblem {
   // (each parameter sensitivity's tangent e_p set per sample).
   TangentBlocks jacobian_blocks_, sensitivity_blocks_;
   int jacobian_blocks_size_ = -1;
+  // The residual Jacobian: M's and A M⁻¹ Aᵀ's factors on values at the state, the tangent
+  // solve, scratch (m zeros, r's value (nu), λ (m)).
+  JacobianMethod jacobian_method_ = JacobianMethod::residual, last_jacobian_method_ = JacobianMethod::residual;
+  dynamics::Workspace<double> jacobian_values_;
+  dynamics::AccelerationTangents acceleration_tangents_;
+  std::vector<double> no_multipliers_, residual_value_, jacobian_multipliers_;
+  // False when the residual form does not apply at this state (J then holds no result).
+  bool residual_jacobian(double t, const double* y, const double* ydot, double* J);
+  // One residual pass on ws at the seeded state y (dynamics/inverse_dynamics.hpp): out (nstate)
+  // gets q̇ and u̇ with their tangents, c (m) is scratch. `factor`: form the value factors from
+  // this pass (else those of the last one, at the same state, are used). False when the
+  // residual form does not apply.
+  template <class S>
+  bool residual_pass(dynamics::Workspace<S>& ws, double t, const S* y, const double* ydot, S* out, S* c, bool factor);
+  template <class S>
+  bool residual_vanishes(const S* c, const double* udot) const;
+  std::vector<math::Dual> constraint_dual_;  // m: jacobian_times' c
   template <int W>
   void evaluate_block(TangentBlock<W>& b, double t);
   // Few sensitivities: one Dual pass each costs less than a block of the narrowest compiled
