@@ -281,8 +281,8 @@ bool KaneProblem::residual_pass(Workspace<S>& ws, double t, const S* y, const do
   return true;
 }
 
-// Whether u̇ (and the λ found) solve the equations at the pass's state: f − M u̇ + Aᵀλ and
-// A u̇ − b vanish to round-off relative to their terms (ydot is f(t, y)).
+// Whether u̇ (and the λ found) solve the equations at the pass's state (ydot is f(t, y)):
+// f − M u̇ + Aᵀλ and A u̇ − b vanish to round-off relative to the largest of their terms.
 template <class S>
 bool KaneProblem::residual_vanishes(const S* c, const double* udot) const {
   const Workspace<double>& wd = jacobian_values_;
@@ -292,20 +292,31 @@ bool KaneProblem::residual_vanishes(const S* c, const double* udot) const {
   double scale = 0, worst = 0;
   for (int k = 0; k < nu; ++k) {
     double Mu = 0, At = 0;
-    for (int l = 0; l < nu; ++l) Mu += wd.mass_matrix(k, l) * udot[l];
-    for (int j = 0; j < nc; ++j) At += wd.constraint_matrix(j, k) * lambda[j];
-    const double r = residual_value_[static_cast<std::size_t>(k)];
-    scale = std::max({scale, std::abs(Mu), std::abs(r + Mu), std::abs(At)});
+    for (int l = 0; l < nu; ++l) {
+      Mu += wd.mass_matrix(k, l) * udot[l];
+      scale = std::max(scale, std::abs(wd.mass_matrix(k, l) * udot[l]));
+    }
+    for (int j = 0; j < nc; ++j) {
+      At += wd.constraint_matrix(j, k) * lambda[j];
+      scale = std::max(scale, std::abs(wd.constraint_matrix(j, k) * lambda[j]));
+    }
+    const double r = residual_value_[static_cast<std::size_t>(k)];  // f − M u̇
+    scale = std::max(scale, std::abs(r + Mu));
     worst = std::max(worst, std::abs(r + At));
   }
   if (!(worst <= tol * scale)) return false;
+  scale = worst = 0;
   for (int j = 0; j < nc; ++j) {
     double Au = 0;
-    for (int k = 0; k < nu; ++k) Au += wd.constraint_matrix(j, k) * udot[k];
-    const double cj = math::value_of(c[j]);
-    if (!(std::abs(cj) <= tol * std::max(std::abs(Au), std::abs(Au - cj)))) return false;
+    for (int k = 0; k < nu; ++k) {
+      Au += wd.constraint_matrix(j, k) * udot[k];
+      scale = std::max(scale, std::abs(wd.constraint_matrix(j, k) * udot[k]));
+    }
+    const double cj = math::value_of(c[j]);  // A u̇ − b
+    scale = std::max(scale, std::abs(Au - cj));
+    worst = std::max(worst, std::abs(cj));
   }
-  return true;
+  return worst <= tol * scale;
 }
 
 void KaneProblem::jacobian_times(double t, const double* y, const double* ydot, const double* v, double* Jv) {
