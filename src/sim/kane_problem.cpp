@@ -32,7 +32,6 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       no_multipliers_(static_cast<std::size_t>(model.nconstraint_rows), 0.0),
       residual_value_(static_cast<std::size_t>(model.nu)),
       jacobian_multipliers_(static_cast<std::size_t>(model.nconstraint_rows)),
-      constraint_dual_(static_cast<std::size_t>(model.nconstraint_rows)),
       u_full_(static_cast<std::size_t>(model.nu)),
       s_full_(static_cast<std::size_t>(model.nstate())) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
@@ -319,14 +318,9 @@ bool KaneProblem::residual_vanishes(const S* c, const double* udot) const {
   return worst <= tol * scale;
 }
 
-void KaneProblem::jacobian_times(double t, const double* y, const double* ydot, const double* v, double* Jv) {
+void KaneProblem::jacobian_times(double t, const double* y, const double*, const double* v, double* Jv) {
   const int n = size();
   for (int r = 0; r < n; ++r) y_dual_[r] = Dual(y[r], v[r]);
-  if (!embedded_ && jacobian_method_ == JacobianMethod::residual &&
-      residual_pass(workspaces_.jacobian(), t, y_dual_.data(), ydot, ydot_dual_.data(), constraint_dual_.data(), true)) {
-    for (int r = 0; r < n; ++r) Jv[r] = ydot_dual_[r].d;
-    return;
-  }
   evaluate(workspaces_.jacobian(), Dual(t), y_dual_.data(), ydot_dual_.data());
   for (int r = 0; r < n; ++r) Jv[r] = ydot_dual_[r].d;
 }

@@ -75,9 +75,10 @@ class KaneProblem final : public OdeProblem {
   void set_jacobian_method(JacobianMethod method) { jacobian_method_ = method; }
   // The method the last jacobian() call took.
   JacobianMethod last_jacobian_method() const { return last_jacobian_method_; }
-  // J v from one pass on Dual with tangent v on y (no parameter tangent), by the method of
-  // jacobian() (residual: of Kane's equations at the accelerations of ydot; whole_rhs: of the
-  // right-hand side): the same equations, constraint paths and partition as rhs().
+  // J v from one pass of the right-hand side on Dual with tangent v on y (no parameter tangent):
+  // the same equations, constraint paths and partition as rhs(). (The residual form of
+  // jacobian() does not pay here: with one tangent, forming M's value factor per product costs
+  // more than the mass matrix's tangent saves.)
   bool has_jacobian_times() const override { return true; }
   void jacobian_times(double t, const double* y, const double* ydot, const double* v, double* Jv) override;
   int num_sensitivities() const override { return static_cast<int>(sens_.size()); }
@@ -202,7 +203,6 @@ class KaneProblem final : public OdeProblem {
   bool residual_pass(dynamics::Workspace<S>& ws, double t, const S* y, const double* ydot, S* out, S* c, bool factor);
   template <class S>
   bool residual_vanishes(const S* c, const double* udot) const;
-  std::vector<math::Dual> constraint_dual_;  // m: jacobian_times' c
   template <int W>
   void evaluate_block(TangentBlock<W>& b, double t);
   // Few sensitivities: one Dual pass each costs less than a block of the narrowest compiled

@@ -1,4 +1,4 @@
-// The Jacobian and J v by inverse dynamics (KaneProblem::JacobianMethod::residual: one
+// The Jacobian by inverse dynamics (KaneProblem::JacobianMethod::residual: one
 // multi-tangent pass of Kane's equations as a residual at the accelerations of ydot, solved with
 // M's and A M⁻¹ Aᵀ's value factors, dynamics/inverse_dynamics.hpp) must equal the whole right-hand
 // side's multi-tangent passes to round-off, and the central differences of the right-hand side to
@@ -112,18 +112,7 @@ TEST(ResidualJacobian, MatchesWholeRhsPassesAndDifferences) {
     }
     EXPECT_LT(efd, 1e-6) << "residual Jacobian vs central differences";
 
-    // J v by both methods.
-    std::uniform_real_distribution<double> u(-1, 1);
-    std::vector<double> v(static_cast<std::size_t>(n)), Jv(v.size()), Jvw(v.size());
-    for (double& x : v) x = u(rng);
-    p.jacobian_times(0.1, y.data(), ydot.data(), v.data(), Jvw.data());
-    p.set_jacobian_method(Method::residual);
-    p.jacobian_times(0.1, y.data(), ydot.data(), v.data(), Jv.data());
-    double ev = 0;
-    for (int r = 0; r < n; ++r) ev = std::max(ev, std::abs(Jv[static_cast<std::size_t>(r)] - Jvw[static_cast<std::size_t>(r)]));
-    EXPECT_LT(ev / std::max(1.0, max_abs(Jvw)), 1e-12) << "J v, residual vs whole right-hand side";
-    std::printf("%s: residual J vs whole %.2e, vs differences %.2e, J v %.2e (n = %d)\n", c.scene.c_str(), err / scale,
-                efd, ev / std::max(1.0, max_abs(Jvw)), n);
+    std::printf("%s: residual J vs whole %.2e, vs differences %.2e (n = %d)\n", c.scene.c_str(), err / scale, efd, n);
   }
 }
 
