@@ -29,7 +29,7 @@ void add_acceleration(const Model& m, Workspace<S>& ws, const double* udot) {
       } else {
         a.setZero();
       }
-      for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) a += ws.partial_planar[k] * S(udot[k]);
+      for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) a += ws.partial_planar[k] * udot[k];
     }
     for (int b = 0; b < m.nbody(); ++b) ws.bias_planar[b] += ws.wrench_planar[b];
     return;
@@ -40,9 +40,8 @@ void add_acceleration(const Model& m, Workspace<S>& ws, const double* udot) {
     if (J.parent >= 0) a = math::motion_to_child<S>(ws.wrench[J.parent], ws.joint_offset[ji]);
     else a.setZero();
     for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) {
-      const S uk = S(udot[k]);
-      if (J.speeds[k - J.u_offset].rotation) a.template head<3>() += ws.partial[k].template head<3>() * uk;
-      else a.template tail<3>() += ws.partial[k].template tail<3>() * uk;
+      if (J.speeds[k - J.u_offset].rotation) a.template head<3>() += ws.partial[k].template head<3>() * udot[k];
+      else a.template tail<3>() += ws.partial[k].template tail<3>() * udot[k];
     }
   }
   for (int b = 0; b < m.nbody(); ++b) ws.bias_acceleration[b] += ws.wrench[b];
@@ -67,14 +66,11 @@ void evaluate_residual(const Model& m, Workspace<S>& ws, const S& t, const S* y,
   S* r = out + m.nq;
   for (int k = 0; k < m.nu; ++k) r[k] = ws.forcing[k];
   for (int j = 0; j < nc; ++j) {
-    const S lj = S(multipliers[j]);
     S c = -ws.constraint_bias[j];
-    for (int k = 0; k < m.nu; ++k) {
-      const S& a = ws.constraint_matrix(j, k);
-      r[k] += a * lj;
-      c += a * S(udot[k]);
-    }
+    for (int k = 0; k < m.nu; ++k) c += ws.constraint_matrix(j, k) * udot[k];
     constraint_out[j] = c;
+    if (multipliers)
+      for (int k = 0; k < m.nu; ++k) r[k] += ws.constraint_matrix(j, k) * multipliers[j];
   }
 }
 

@@ -23,7 +23,7 @@
 namespace kanesens::dynamics {
 
 // out[0, nq) = q̇, out[nq, nq + nu) = r, constraint_out[0, m) = c at (t, y) (parameters set).
-// udot (nu) and multipliers (m) are values.
+// udot (nu) and multipliers (m; nullptr: λ* = 0) are values.
 template <class S>
 void evaluate_residual(const Model& m, Workspace<S>& ws, const S& t, const S* y, const double* udot,
                        const double* multipliers, const DynamicsOptions& options, S* out, S* constraint_out);

@@ -29,7 +29,6 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       sensitivity_blocks_(model, static_cast<int>(sens_.size())),
       jacobian_values_(model),
       acceleration_tangents_(model),
-      no_multipliers_(static_cast<std::size_t>(model.nconstraint_rows), 0.0),
       residual_value_(static_cast<std::size_t>(model.nu)),
       jacobian_multipliers_(static_cast<std::size_t>(model.nconstraint_rows)),
       u_full_(static_cast<std::size_t>(model.nu)),
@@ -266,7 +265,7 @@ bool KaneProblem::residual_pass(Workspace<S>& ws, double t, const S* y, const do
   const int nq = model_.nq, nu = model_.nu, nc = model_.nconstraint_rows;
   const double* udot = ydot + nq;
   double* lambda = jacobian_multipliers_.data();
-  dynamics::evaluate_residual(model_, ws, S(t), y, udot, no_multipliers_.data(), dynamics_, out, c);
+  dynamics::evaluate_residual(model_, ws, S(t), y, udot, nullptr, dynamics_, out, c);
   S* du = out + nq;  // f − M u̇
   if (factor) {
     if (!dynamics::factor_mass_matrix_values(model_, ws, wd) || !acceleration_tangents_.prepare(model_, wd)) return false;

@@ -188,11 +188,11 @@ class KaneProblem final : public OdeProblem {
   TangentBlocks jacobian_blocks_, sensitivity_blocks_;
   int jacobian_blocks_size_ = -1;
   // The residual Jacobian: M's and A M⁻¹ Aᵀ's factors on values at the state, the tangent
-  // solve, scratch (m zeros, r's value (nu), λ (m)).
+  // solve, scratch (r's value (nu), λ (m)).
   JacobianMethod jacobian_method_ = JacobianMethod::residual, last_jacobian_method_ = JacobianMethod::residual;
   dynamics::Workspace<double> jacobian_values_;
   dynamics::AccelerationTangents acceleration_tangents_;
-  std::vector<double> no_multipliers_, residual_value_, jacobian_multipliers_;
+  std::vector<double> residual_value_, jacobian_multipliers_;
   // False when the residual form does not apply at this state (J then holds no result).
   bool residual_jacobian(double t, const double* y, const double* ydot, double* J);
   // One residual pass on ws at the seeded state y (dynamics/inverse_dynamics.hpp): out (nstate)
