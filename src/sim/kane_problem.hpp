@@ -3,7 +3,9 @@
 // sensitivity right-hand sides from forward-mode dual numbers through the same templated code.
 //
 // Sensitivity i is with respect to a scene parameter or an initial condition (InputRef).
-//   Jacobian column j:      the right-hand side on Dual with tangent e_j on y, 0 on parameters.
+//   Jacobian column j:      the tangent e_j on y, 0 on parameters, through Kane's equations as a
+//                           residual at the current accelerations (JacobianMethod below) or
+//                           through the whole right-hand side.
 //   sensitivity rhs i:      the right-hand side on Dual with tangent s_i on y and e_p on
 //                           parameter p (0 for an initial condition) = J s_i + ∂f/∂p.
 //   initial sensitivity i:  the tangent of the consistent initial state (sim/initial_state.hpp).
