@@ -1,5 +1,7 @@
 #include "sim/solve/cvodes_callbacks.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <exception>
 
 namespace kanesens::sim::detail {
@@ -89,6 +91,46 @@ int sens_rhs_all_trampoline(int Ns, sunrealtype t, N_Vector y, N_Vector ydot, N_
   });
 }
 
+namespace {
+
+// CVODES's simultaneous corrector, with sensitivity error control, tests one local error norm for
+// the state and the sensitivities together: max(‖e‖, maxᵢ ‖eᵢ‖), eᵢ = the correction of
+// sensitivity i from its predictor. When the error estimate is projected, CVODES recomputes that
+// norm after the projection from the projected state error alone, so the sensitivities drop out
+// of the error test and of the step size (the staggered corrector tests them separately, after
+// the projection). The projected estimate is used only through that norm, so scaling it to
+// max(‖P e‖, maxᵢ ‖eᵢ‖) restores the test CVODES makes without projection (and the staggered one).
+int keep_sensitivity_error(CallbackData& cb, double t, N_Vector err) {
+  sunrealtype tcur = 0, gamma = 0, rl1 = 0;
+  N_Vector *ys_pred = nullptr, *ys = nullptr, *zn1 = nullptr;
+  void* user_data = nullptr;
+  if (CVodeGetNonlinearSystemDataSens(cb.sens_error_mem, &tcur, &ys_pred, &ys, &gamma, &rl1, &zn1, &user_data) !=
+          CV_SUCCESS ||
+      CVodeGetSensErrWeights(cb.sens_error_mem, cb.sens_weights) != CV_SUCCESS ||
+      CVodeGetErrWeights(cb.sens_error_mem, cb.state_weights) != CV_SUCCESS)
+    return cb.fail("project", t, "cannot read the sensitivities' local error");
+  double sens = 0;
+  for (int i = 0; i < cb.ns; ++i) {
+    const double* s = N_VGetArrayPointer(ys[i]);
+    const double* p = N_VGetArrayPointer(ys_pred[i]);
+    const double* w = N_VGetArrayPointer(cb.sens_weights[i]);
+    double sum = 0;
+    for (int k = 0; k < cb.n; ++k) sum += ((s[k] - p[k]) * w[k]) * ((s[k] - p[k]) * w[k]);
+    sens = std::max(sens, std::sqrt(sum / cb.n));
+  }
+  const double state = N_VWrmsNorm(err, cb.state_weights);
+  if (!(sens > state)) return 0;
+  if (state > 0) {
+    N_VScale(sens / state, err, err);
+  } else {  // e_k = sens / w_k has norm sens
+    N_VInv(cb.state_weights, err);
+    N_VScale(sens, err, err);
+  }
+  return 0;
+}
+
+}  // namespace
+
 int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
                     void* user_data) noexcept {
   CallbackData& cb = data_of(user_data);
@@ -105,7 +147,9 @@ int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps
       if (flag > 0) ++cb.recoverable;
       return flag;
     }
-    return cb.check_finite("project", t, c, cb.n);
+    const int finite = cb.check_finite("project", t, c, cb.n);
+    if (finite != 0 || err == nullptr || cb.sens_error_mem == nullptr) return finite;
+    return keep_sensitivity_error(cb, t, err);
   });
 }
 

@@ -34,6 +34,14 @@ struct CallbackData {
   std::string solver_message;    // last error reported by CVODES's error handler
   std::vector<const double*> s_in;  // sens_rhs_all_trampoline's pointers into yS and ySdot (ns each)
   std::vector<double*> s_out;
+  // Set when the simultaneous corrector tests the sensitivities' error and the state's error
+  // estimate is projected (proj_trampoline then restores the sensitivities' part of the error
+  // norm): CVODES's memory, and scratch for the state's and the ns sensitivities' error weights.
+  // Null otherwise.
+  void* sens_error_mem = nullptr;
+  N_Vector state_weights = nullptr;
+  N_Vector* sens_weights = nullptr;
+  int ns = 0;
 
   void reset(OdeProblem* p, int size) {
     problem = p;
@@ -123,6 +131,9 @@ int sens_rhs_all_trampoline(int ns, sunrealtype t, N_Vector y, N_Vector ydot, N_
                             void* user_data, N_Vector, N_Vector) noexcept;
 // CVodeRootInit's g: OdeEvents::g (an exception: −1, CVODES stops with CV_RTFUNC_FAIL).
 int root_trampoline(sunrealtype t, N_Vector y, sunrealtype* gout, void* user_data) noexcept;
+// CVodeSetProjFn's projection: OdeProblem::project; with sens_error_mem set, also scales the
+// projected error estimate err so that its norm keeps the sensitivities' local error (see
+// keep_sensitivity_error in the .cpp).
 int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
                     void* user_data) noexcept;
 // CVODES reports errors through this instead of printing them to stderr (thousands of failing

@@ -161,8 +161,9 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
     check_flag(CVodeSetInitStep(mem.get(), o.initial_step), "CVodeSetInitStep");
   if (o.max_step > 0) check_flag(CVodeSetMaxStep(mem.get(), o.max_step), "CVodeSetMaxStep");
 
-  // Projection (CVODES ≥ 5.3, BDF only). Its interplay with forward sensitivities is not
-  // documented by CVODES 6.4 and must be tested with the constrained models (docs/solve.md).
+  // Projection (CVODES ≥ 5.3, BDF only). CVODES projects the state only; its interplay with
+  // forward sensitivities is not documented by CVODES 6.4 and is tested with the constrained
+  // models (docs/solve.md; the simultaneous corrector's error test: below).
   if (with_projection) {
     check_flag(CVodeSetProjFn(mem.get(), proj_trampoline), "CVodeSetProjFn");
     check_flag(CVodeSetProjErrEst(mem.get(), o.projection_error_estimate ? SUNTRUE : SUNFALSE),
@@ -197,6 +198,17 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
     }
     check_flag(CVodeSetSensErrCon(mem.get(), o.sens_error_control ? SUNTRUE : SUNFALSE),
                "CVodeSetSensErrCon");
+    // The simultaneous corrector's error test would lose the sensitivities when the state's
+    // error estimate is projected; the projection callback keeps them (cvodes_callbacks.cpp).
+    if (with_projection && o.projection_error_estimate && o.sens_error_control &&
+        sensitivity_method == SensitivityMethod::simultaneous) {
+      state_weights = make_serial_vector(n_states, ctx.get());
+      sens_weights = NVectorArray(n_sens, y.get());
+      cb.sens_error_mem = mem.get();
+      cb.state_weights = state_weights.get();
+      cb.sens_weights = sens_weights.get();
+      cb.ns = n_sens;
+    }
     if (o.iteration == Iteration::functional) {
       // CVodeSensInit1 attaches Newton solvers for the sensitivities; functional iteration
       // needs fixed-point ones of the matching kind (cvsAdvDiff_FSA_non.c).

@@ -45,6 +45,8 @@ struct Integrator::Impl {
   NonlinearSolverPtr NLS;
   NVectorArray yS;
   NonlinearSolverPtr NLS_sens;
+  NVectorPtr state_weights;   // scratch of proj_trampoline (CallbackData::sens_error_mem)
+  NVectorArray sens_weights;
   CvodeMemPtr mem;
   detail::CvodesQuadrature quadrature;  // after mem: its vectors are only CVODES's templates
 
@@ -92,6 +94,11 @@ struct Integrator::Impl {
     mem.reset();
     yS_out = NVectorArray();
     y_out.reset();
+    cb.sens_error_mem = nullptr;
+    cb.state_weights = nullptr;
+    cb.sens_weights = nullptr;
+    sens_weights = NVectorArray();
+    state_weights.reset();
     NLS_sens.reset();
     yS = NVectorArray();
     NLS.reset();

@@ -70,8 +70,7 @@ inline constexpr double kKrylovMaxRate = 1e3;
 // The linear solver a Newton integration of n states uses: the option itself unless automatic;
 // jacobian_rate: the estimated spectral radius of J (needed only when n >= kKrylovMinStates).
 LinearSolver resolve_linear_solver(LinearSolver option, int n, double jacobian_rate = 0);
-// automatic: staggered with projection (the simultaneous corrector's sensitivities are then less
-// accurate: the finite-difference tests of projected sensitivities fail with it), simultaneous
+// automatic: staggered with projection (the two are as accurate and as fast there), simultaneous
 // otherwise (as fast or faster: docs/benchmarks.md); an explicit choice is kept.
 SensitivityMethod resolve_sensitivity_method(SensitivityMethod option, bool with_projection);
 std::string_view to_string(SensitivityMethod s);
