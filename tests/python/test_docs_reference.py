@@ -9,6 +9,12 @@
   everything recorded (states, sensitivities, multipliers, outputs, events, poses, a design).
 * exit-codes.md lists every exit code the command line returns and every sample status the
   ensemble writes.
+
+And the other way round: every option cli.md and python.md name (and every option of a
+`kanesens ...` or `kanesens-post ...` command line on the README, getting-started and tutorial
+pages) exists; every key of the JSON that eom, linearize, simulate and run print is named in its
+command's section of cli.md; and the defaults study.md states for `solver:` and `sampling:` are
+the ones the option structs start with.
 """
 import os
 import pathlib
@@ -50,7 +56,7 @@ def documented(page_text, name):
     """`name` appears as code (`...name...`) or as a YAML key (name:) on the page."""
     fenced = re.findall(r"```.*?```", page_text, re.S)
     prose = re.sub(r"```.*?```", "", page_text, flags=re.S)
-    for code in re.findall(r"`([^`\n]+)`", prose):
+    for code in re.findall(r"`([^`]+)`", prose):  # a code span may wrap onto the next line
         if re.search(rf"(?<![\w]){re.escape(name)}(?![\w])", code):
             return True
     if re.search(rf"(?<![\w]){re.escape(name)}:", page_text):
@@ -261,3 +267,154 @@ def test_exit_codes_reference_lists_every_code():
         written |= {int(c) for c in re.findall(r"constexpr int kStatus\w+ = (-?\d+);", src.read_text(encoding="utf-8"))}
     assert {-100, -101} <= written
     assert sorted(written - statuses) == []
+
+
+# ---- the other direction: what the reference promises exists, with the defaults it states ----
+
+def section(page_text, heading):
+    """The text of the `## heading...` section of a page (up to the next `## `)."""
+    m = re.search(rf"^## {re.escape(heading)}[^\n]*\n(.*?)(?=^## |\Z)", page_text, re.S | re.M)
+    assert m, f"no section '## {heading}'"
+    return m.group(1)
+
+
+def all_help(*commands):
+    return "".join(help_text(*c, "--help") for c in commands)
+
+
+KANESENS_COMMANDS = [(), ("check",), ("eom",), ("linearize",), ("simulate",), ("run",), ("bench",), ("bench", "rhs")]
+USER_PAGES = ["README.md", "docs/getting-started.md"] + [f"docs/tutorials/{p.name}" for p in
+                                                         sorted((ROOT / "docs/tutorials").glob("*.md"))]
+
+
+@pytest.mark.skipif(not KANESENS, reason="needs the kanesens executable (KANESENS)")
+def test_documented_kanesens_options_exist():
+    """Every --option cli.md names, and every option of a `kanesens SUB ...` command line on the
+    user pages, is one some `kanesens ... --help` lists."""
+    existing = options(all_help(*[(KANESENS,) + c for c in KANESENS_COMMANDS]))
+    assert {"--set", "--sens", "--chunk", "--batch-seconds"} <= existing
+    named = {o: "docs/reference/cli.md" for o in options((REF / "cli.md").read_text(encoding="utf-8"))}
+    for page in USER_PAGES:
+        text = (ROOT / page).read_text(encoding="utf-8").replace("\\\n", " ")
+        for line in re.findall(r"(?<![\w-])kanesens (?:check|eom|linearize|simulate|run|bench)\b[^\n`]*", text):
+            named.update({o: page for o in options(line)})
+    bad = sorted(f"{o} ({where})" for o, where in named.items() if o not in existing)
+    assert bad == [], "documented but not an option of kanesens: " + ", ".join(bad)
+
+
+def test_documented_kanesens_post_options_exist():
+    post = [sys.executable, "-m", "kanesens_post"]
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "python"))
+    run = lambda *a: subprocess.run(post + list(a) + ["--help"], capture_output=True, text=True, env=env,
+                                    timeout=60).stdout
+    top = run()
+    subs = re.search(r"\{([a-z,-]+)\}", top).group(1).split(",")
+    existing = options(top + "".join(run(s) for s in subs))
+    pip = {"--no-build-isolation", "--no-deps", "--no-index", "--system-site-packages", "--samples"}
+    named = {o: "docs/reference/python.md" for o in options((REF / "python.md").read_text(encoding="utf-8"))
+             if o not in pip}
+    for page in USER_PAGES:
+        text = (ROOT / page).read_text(encoding="utf-8").replace("\\\n", " ")
+        for line in re.findall(r"kanesens-post [a-z-]+ [^\n`]*", text):
+            named.update({o: page for o in options(line)})
+    bad = sorted(f"{o} ({where})" for o, where in named.items() if o not in existing)
+    assert bad == [], "documented but not an option of kanesens-post: " + ", ".join(bad)
+
+
+def json_keys(value, prefix=""):
+    """Every key of a JSON object and of the objects nested in it."""
+    keys = set()
+    if isinstance(value, dict):
+        for k, v in value.items():
+            keys.add(k)
+            keys |= json_keys(v)
+    return keys
+
+
+@pytest.mark.skipif(not KANESENS, reason="needs the kanesens executable (KANESENS)")
+def test_cli_reference_names_every_json_key(tmp_path):
+    """The JSON of eom, linearize --json, simulate and run --json: each key is named in its
+    command's section of cli.md (study outputs are the study's own names)."""
+    import json
+    cli = (REF / "cli.md").read_text(encoding="utf-8")
+    scene = ROOT / "configs/four_bar.yaml"
+    constraint = re.search(r"constraints:\s*\n\s*-\s*\{?\s*name:\s*(\w+)", scene.read_text(encoding="utf-8")).group(1)
+    study = tmp_path / "study.yaml"
+    study.write_text(STUDY.format(scene=scene, constraint=constraint))
+
+    def run(*args):
+        r = subprocess.run([KANESENS, *map(str, args)], capture_output=True, text=True, timeout=120)
+        assert r.returncode == 0, r.stderr
+        return json.loads(r.stdout)
+
+    pend = ROOT / "configs/simple_pendulum.yaml"
+    got = {"eom": json_keys(run("eom", pend, "--q=0.3", "--u=0.1")),
+           "linearize": json_keys(run("linearize", pend, "--json")),
+           "simulate": json_keys(run("simulate", study)),
+           "run": json_keys(run("run", study, "-o", tmp_path / "r.h5", "--json"))}
+    sim = run("simulate", study)
+    study_names = set(sim["outputs"]) - {"energy"}
+    assert {"stats", "output_sensitivities", "multiplier_sensitivities"} <= got["simulate"]
+    assert {"repartitions", "sensitivity_method", "wall_seconds"} <= set(sim["stats"])
+    bad = []
+    for command, keys in got.items():
+        text = section(cli, f"`{command}")
+        bad += [f"{command}: {k}" for k in sorted(keys - study_names) if not documented(text, k)]
+    assert bad == [], "JSON keys not in their section of docs/reference/cli.md: " + ", ".join(bad)
+
+
+def header_default(path, pattern):
+    m = re.search(pattern, (ROOT / path).read_text(encoding="utf-8"))
+    assert m, f"{path}: no match for {pattern} (moved? update this test)"
+    return m.group(1)
+
+
+def test_study_reference_states_the_code_defaults():
+    """The `default` column of study.md's solver table, and the sampling defaults in its prose,
+    are the values the option structs start with."""
+    solver, constraints = "src/sim/solve/solver_options.hpp", "src/sim/constraint_options.hpp"
+    enum_word = {"automatic": "auto"}
+    word = lambda s: enum_word.get(s, s)
+    expected = {
+        "method": word(header_default(solver, r"Method method = Method::(\w+);")),
+        "iteration": word(header_default(solver, r"Iteration iteration = Iteration::(\w+);")),
+        "rtol": header_default(solver, r"double rtol = ([\d.e+-]+);"),
+        "atol": header_default(solver, r"double atol = ([\d.e+-]+);"),
+        "max_steps": header_default(solver, r"long max_steps = (\d+);"),
+        "max_order": header_default(solver, r"int max_order = (\d+);"),
+        "jacobian": word(header_default(solver, r"JacobianKind jacobian = JacobianKind::(\w+);")),
+        "linear_solver": word(header_default(solver, r"LinearSolver linear_solver = LinearSolver::(\w+);")),
+        "sensitivity.method": word(header_default(solver, r"SensitivityMethod sensitivity_method = SensitivityMethod::(\w+);")),
+        "sensitivity.error_control": header_default(solver, r"bool sens_error_control = (\w+);"),
+        "sensitivity.rhs": word(header_default(solver, r"SensitivityRhs sens_rhs = SensitivityRhs::(\w+);")),
+        "constraints.formulation": header_default(constraints, r"Formulation formulation = Formulation::(\w+);"),
+        "constraints.stabilization": header_default(constraints, r"Stabilization stabilization = Stabilization::(\w+);"),
+        "constraints.correct_initial": header_default(constraints, r"bool correct_initial = (\w+);"),
+        "constraints.project_sensitivities": header_default(constraints, r"bool project_sensitivities = (\w+);"),
+    }
+    alpha, beta = (header_default(constraints, rf"{k} = ([\d.]+)") for k in (r"double alpha", r"beta"))
+    text = (REF / "study.md").read_text(encoding="utf-8")
+    rows = {}
+    for key_cell, default in re.findall(r"^\| (`[^|]+`) \|[^\n]*\| ([^|\n]*) \|$", section(text, "`solver`"), re.M):
+        for key in re.findall(r"`([a-z_.]+)`", key_cell):
+            rows[key] = default.strip().strip("`")
+    assert set(expected) <= set(rows), sorted(set(expected) - set(rows))
+    same = lambda doc, code: doc == code or (re.fullmatch(r"[\d.e+-]+", code) and float(doc) == float(code))
+    bad = [f"{k}: documented {rows[k]!r}, code {v!r}" for k, v in expected.items() if not same(rows[k], v)]
+    ab = rows["constraints.alpha"].replace(" ", "").split(",")
+    if [float(x) for x in ab] != [float(alpha), float(beta)]:
+        bad.append(f"alpha, beta: documented {ab}, code {[alpha, beta]}")
+    sampling = section(text, "`sampling`")
+    spec = "src/study/sampling_spec.hpp"
+    d = {name: header_default(spec, pattern) for name, pattern in (
+        ("method", r"SamplingMethod method = SamplingMethod::(\w+);"), ("seed", r"std::uint64_t seed = (\d+);"),
+        ("levels", r"morris_levels = (\d+);"), ("base", r"SamplingMethod base = SamplingMethod::(\w+);"),
+        ("randomize", r"bool randomize = (\w+);"))}
+    for claim, code in ((f"`method` \\(default `{d['method']}`\\)", "method"),
+                        (f"`seed` \\(default {d['seed']}\\b", "seed"),
+                        (f"default {d['levels']}\\)", "morris levels"),
+                        (f"`base` \\(`{d['base']}` default", "base"),
+                        (f"`randomize` \\(default {d['randomize']}", "randomize")):
+        if not re.search(claim, sampling):
+            bad.append(f"sampling {code}: the documented default is not the code's ({claim})")
+    assert bad == [], "study.md defaults that are not the code's:\n" + "\n".join(bad)
