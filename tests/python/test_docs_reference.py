@@ -169,6 +169,14 @@ def test_python_reference_names_every_public_function():
             if m:
                 shown = [a.split("=")[0].strip() for a in m.group(1).split(",") if a.strip()]
                 bad += [f"{module}.{f}: no parameter '{a}'" for a in shown if a not in args]
+                # and a documented default is the signature's
+                fa = defined[f].args
+                defaults = dict(zip([a.arg for a in fa.args][len(fa.args) - len(fa.defaults):],
+                                    [ast.unparse(d) for d in fa.defaults]))
+                for a in m.group(1).split(","):
+                    name, eq, value = (s.strip() for s in a.partition("="))
+                    if eq and name in defaults and ast.unparse(ast.parse(value, mode="eval").body) != defaults[name]:
+                        bad.append(f"{module}.{f}: {name}={value} documented, {defaults[name]} in the code")
     assert bad == []
 
 
