@@ -165,18 +165,18 @@ def test_python_reference_names_every_public_function():
                 bad.append(f"kanesens_post.{module}.{f} not in python.md")
             # every parameter named in the signature is the one documented
             args = [a.arg for a in defined[f].args.args]
-            m = re.search(rf"kanesens_post\.{module}\.{f}\(([^)]*)\)", text)
+            m = re.search(rf"`kanesens_post\.{module}\.{f}\(([^`]*)\)`", text)
             if m:
-                shown = [a.split("=")[0].strip() for a in m.group(1).split(",") if a.strip()]
-                bad += [f"{module}.{f}: no parameter '{a}'" for a in shown if a not in args]
-                # and a documented default is the signature's
+                # the documented signature, read as Python: its names exist, its defaults are the code's
+                shown = ast.parse(f"def f({m.group(1)}): pass").body[0].args
+                bad += [f"{module}.{f}: no parameter '{a.arg}'" for a in shown.args if a.arg not in args]
                 fa = defined[f].args
-                defaults = dict(zip([a.arg for a in fa.args][len(fa.args) - len(fa.defaults):],
-                                    [ast.unparse(d) for d in fa.defaults]))
-                for a in m.group(1).split(","):
-                    name, eq, value = (s.strip() for s in a.partition("="))
-                    if eq and name in defaults and ast.unparse(ast.parse(value, mode="eval").body) != defaults[name]:
-                        bad.append(f"{module}.{f}: {name}={value} documented, {defaults[name]} in the code")
+                code = dict(zip([a.arg for a in fa.args][len(fa.args) - len(fa.defaults):],
+                                [ast.unparse(d) for d in fa.defaults]))
+                doc = dict(zip([a.arg for a in shown.args][len(shown.args) - len(shown.defaults):],
+                               [ast.unparse(d) for d in shown.defaults]))
+                bad += [f"{module}.{f}: {a}={v} documented, {code.get(a)} in the code"
+                        for a, v in doc.items() if a in args and code.get(a) != v]
     assert bad == []
 
 
