@@ -40,6 +40,8 @@ def accepted_names(sources):
         for lst in re.findall(r"check_keys\([^;]*?\{([^}]*)\}", text, re.S):
             names |= set(IDENT.findall(lst))
         names |= set(re.findall(r'\{"([a-z][a-z0-9_]*)",\s*[A-Z]\w*::', text))
+        # read_choice tables of other namespaces' enums, numbers or booleans ({"rising", 1})
+        names |= set(re.findall(r'\{"([a-z][a-z0-9_]*)",\s*(?:-?\d+|true|false|(?:\w+::)+\w+)\}', text))
         # key tables: parse_sampling's keys_of, parse_vary's distribution table
         for lst in re.findall(r"keys(?:\s*=|\.push_back\(|\.insert\([^{]*)\s*\{?([^;]*);", text):
             names |= set(IDENT.findall(lst))
@@ -88,7 +90,7 @@ def test_scene_reference_names_every_scene_key():
 def test_study_reference_names_every_study_key():
     names = accepted_names(sorted((ROOT / "src/study").glob("parse_*.cpp")))
     assert {"time", "solver", "rtol", "saltelli", "truncnormal", "mu", "trajectories",
-            "constraint_force", "poses", "max_count"} <= names
+            "constraint_force", "poses", "max_count", "argmax", "kinetic", "rising", "stop"} <= names
     assert missing("study.md", names) == []
 
 
