@@ -428,3 +428,18 @@ def test_study_reference_states_the_code_defaults():
         if not re.search(claim, sampling):
             bad.append(f"sampling {code}: the documented default is not the code's ({claim})")
     assert bad == [], "study.md defaults that are not the code's:\n" + "\n".join(bad)
+
+
+def test_cmake_options_are_documented_and_exist():
+    """Every option() of the top-level CMakeLists.txt (and KANESENS_PYTHON) is on the
+    getting-started page, and every -DKANESENS_... the docs name exists."""
+    cmake = (ROOT / "CMakeLists.txt").read_text(encoding="utf-8")
+    defined = set(re.findall(r"option\((KANESENS_\w+)", cmake)) | set(re.findall(r"set\((KANESENS_\w+) [^)]*CACHE", cmake))
+    assert {"KANESENS_WERROR", "KANESENS_BUILD_TESTS", "KANESENS_PYTHON"} <= defined
+    getting_started = (ROOT / "docs/getting-started.md").read_text(encoding="utf-8")
+    bad = [f"{o} not in docs/getting-started.md" for o in sorted(defined) if f"-D{o}" not in getting_started]
+    for page in ["README.md"] + sorted(str(p.relative_to(ROOT)) for p in (ROOT / "docs").rglob("*.md")):
+        for o in set(re.findall(r"-D(KANESENS_\w+)", (ROOT / page).read_text(encoding="utf-8"))):
+            if o not in defined:
+                bad.append(f"{page}: -D{o} is not an option")
+    assert bad == []
