@@ -6,7 +6,8 @@
 * cli.md names every subcommand and every option of `kanesens --help` and of each
   subcommand's --help; python.md every subcommand and option of `kanesens-post`.
 * hdf5.md names every dataset, group and attribute of a run file written by `kanesens run` with
-  everything recorded (states, sensitivities, multipliers, outputs, events, poses, a design).
+  everything recorded (states, sensitivities, multipliers, outputs, events, poses, a design),
+  with the dimensions each dataset has.
 * exit-codes.md lists every exit code the command line returns and every sample status the
   ensemble writes.
 
@@ -248,6 +249,49 @@ def test_hdf5_reference_names_everything_a_run_writes(tmp_path):
     bad += [f"attribute {a}" for a in sorted(attributes) if a not in text]
     assert {"/states", "/sensitivities", "/multipliers", "/poses", "/status"} <= datasets
     assert bad == [], "not in docs/reference/hdf5.md: " + ", ".join(bad)
+    # and each dataset's dimensions are the documented ones
+    documented_dims = hdf5_documented_dims(text)
+    assert len(documented_dims) > 20, documented_dims
+    wrong = []
+    for d, dims in sorted(h5_dims(out).items()):
+        if d.startswith("/solver_stats/"):
+            if dims != ("sample",):
+                wrong.append(f"{d} {dims}")
+            continue
+        if d.endswith("_name"):
+            continue  # the plain copies of the names ("the same names as plain datasets")
+        shapes = {s for pattern, s in documented_dims if re.fullmatch(pattern, d)}
+        if dims not in shapes:
+            wrong.append(f"{d} is {dims}, documented {sorted(shapes) or 'nowhere'}")
+    assert wrong == [], "dimensions not as in docs/reference/hdf5.md:\n" + "\n".join(wrong)
+
+
+def hdf5_documented_dims(text):
+    """(path regex, dimension names) of every `/path (dim, dim)` entry of hdf5.md's listing
+    (`<name>` stands for any name; several paths may share one entry)."""
+    entries = []
+    listing = re.search(r"^    dimension scales.*?(?=^\S)", text, re.S | re.M).group(0)
+    for paths, dims in re.findall(r"((?:/[\w<>./]+,?[ \t]*)+)\(([a-z, ]+)\)", listing):
+        for path in re.findall(r"/[\w<>./]+", paths):
+            pattern = re.escape(path.rstrip(",")).replace(re.escape("<name>"), r"[^/]+")
+            entries.append((pattern, tuple(x.strip() for x in dims.split(","))))
+    return entries
+
+
+def h5_dims(path):
+    """Every dataset's dimension names: the names of the scales attached to its axes (a
+    dimension scale's own dimension is itself)."""
+    import h5py
+    result = {}
+    with h5py.File(path, "r") as f:
+        def visit(name, obj):
+            if isinstance(obj, h5py.Dataset):
+                if h5py.h5ds.is_scale(obj.id):
+                    result["/" + name] = (name.rsplit("/", 1)[-1],)
+                else:
+                    result["/" + name] = tuple(d[0].name.rsplit("/", 1)[-1] if len(d) else "?" for d in obj.dims)
+        f.visititems(visit)
+    return result
 
 
 def table_codes(text, heading):
