@@ -458,6 +458,10 @@ def test_study_reference_states_the_code_defaults():
     ab = rows["constraints.alpha"].replace(" ", "").split(",")
     if [float(x) for x in ab] != [float(alpha), float(beta)]:
         bad.append(f"alpha, beta: documented {ab}, code {[alpha, beta]}")
+    min_states = header_default(solver, r"kKrylovMinStates = (\d+);")
+    max_rate = header_default(solver, r"kKrylovMaxRate = ([\d.e+-]+);")
+    if not re.search(rf"krylov from {min_states} states unless the Jacobian's spectral radius exceeds {max_rate} /s", text):
+        bad.append(f"linear_solver auto: not 'krylov from {min_states} states ... exceeds {max_rate} /s'")
     sampling = section(text, "`sampling`")
     spec = "src/study/sampling_spec.hpp"
     d = {name: header_default(spec, pattern) for name, pattern in (
