@@ -491,3 +491,15 @@ def test_cmake_options_are_documented_and_exist():
             if o not in defined:
                 bad.append(f"{page}: -D{o} is not an option")
     assert bad == []
+
+
+def test_scene_reference_names_every_expression_function():
+    """The functions of scene.md's "Expressions" paragraph are the parser's, with their arity."""
+    source = (ROOT / "src/model/expr/expression.cpp").read_text(encoding="utf-8")
+    table = dict(re.findall(r'\{"([a-z0-9]+)",\s*\{Op::\w+,\s*(\d)\}\}', source))
+    assert {"sin", "atan2", "max"} <= set(table), table
+    text = (REF / "scene.md").read_text(encoding="utf-8")
+    paragraph = re.search(r"^Expressions: .*?(?=\n\n)", text, re.S | re.M).group(0)
+    listed = re.search(r"parentheses, `([^`]*)`", paragraph).group(1).split()
+    shown = {re.sub(r"\(.*", "", f): f.count(",") + 1 if "(" in f else 1 for f in listed}
+    assert shown == {name: int(arity) for name, arity in table.items()}
