@@ -188,6 +188,8 @@ def response(ds: xr.Dataset, name: str) -> xr.DataArray:
     """The values called `name`: a state (from /states, (sample, time)) or an output (from
     /outputs: (sample, time), or (sample) for an output that is one number per sample)."""
     if "state" in ds.coords and name in ds["state"].values:
+        if "states" not in ds:
+            raise RunFileError(f"'{name}' is a state, but the file has no /states (record: [states])")
         return ds["states"].sel(state=name, drop=True).rename(name)
     if OUTPUT_PREFIX + name in ds:
         return ds[OUTPUT_PREFIX + name].rename(name)

@@ -77,3 +77,6 @@ def test_residuals_of_a_real_run(tmp_path):
     sobol = subprocess.run([sys.executable, "-m", "kanesens_post", "sobol", str(run), "--output", "energy"],
                            capture_output=True, text=True, env=env, timeout=120)
     assert sobol.returncode == 2 and "varies no input" in sobol.stderr, sobol.stderr
+    plot = subprocess.run([sys.executable, "-m", "kanesens_post", "plot", str(run), "--out", str(tmp_path / "p.png")],
+                          capture_output=True, text=True, env=env, timeout=120)
+    assert plot.returncode == 2 and "no /states (record: [states])" in plot.stderr, plot.stderr
