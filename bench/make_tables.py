@@ -121,6 +121,12 @@ def sensitivity_cost_few():
     return printed(m.table, path) + source(path)
 
 
+def sensitivity_cost_jacobian():
+    import sensitivity_cost as m
+    path = RESULTS / "sensitivity_cost_jacobian.json"
+    return printed(m.table, path) + source(path)
+
+
 def sensitivity_cost_few_constrained():
     import sensitivity_cost as m
     path = RESULTS / "sensitivity_cost_few_constrained.json"
@@ -803,7 +809,8 @@ def _ratio_from_cell(cell: str):
 TABLES = {
     "rhs_mujoco": rhs_mujoco, "rhs_paths": rhs_paths, "jacobian_cost": jacobian_cost,
     "sensitivity_cost": sensitivity_cost, "sensitivity_cost_few": sensitivity_cost_few,
-    "sensitivity_cost_few_constrained": sensitivity_cost_few_constrained, "multitangent": multitangent, "outputs_cost": outputs_cost,
+    "sensitivity_cost_few_constrained": sensitivity_cost_few_constrained,
+    "sensitivity_cost_jacobian": sensitivity_cost_jacobian, "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,
     "sensitivities": sensitivities_table, "constraints": constraints_table, "ensemble": ensemble_table,

@@ -5,6 +5,9 @@
 //   jacobian_dual  the exact Jacobian ∂ẏ/∂y column by column: nq + nu evaluate_rhs on Dual
 //   jacobian       the exact Jacobian as the solvers get it (KaneProblem::jacobian): columns in
 //                  blocks of up to 16, one multi-tangent pass per block
+//   jacobian_whole_rhs  the same with KaneProblem::JacobianMethod::whole_rhs (multi-tangent
+//                  passes of the whole right-hand side); `jacobian_method` says which the
+//                  default took
 //   jacobian_times one product J v as matrix-free Newton gets it (KaneProblem::jacobian_times):
 //                  one Dual pass
 // On a scene with constraints, `rhs` includes the multipliers (A M⁻¹ Aᵀ λ = b − A M⁻¹ f) at the
@@ -137,6 +140,7 @@ int run_bench_rhs(const BenchOptions& o) {
     sink += jac.back();
   }));
 
+  const char* jacobian_method = "";
   {
     KaneProblem problem(m, {});
     problem.set_sample(SampleInputs(m));
@@ -144,6 +148,13 @@ int run_bench_rhs(const BenchOptions& o) {
       problem.jacobian(0.0, y.data(), ydot.data(), jac.data());
       sink += jac.back();
     }));
+    jacobian_method = problem.last_jacobian_method() == KaneProblem::JacobianMethod::residual ? "residual" : "whole_rhs";
+    problem.set_jacobian_method(KaneProblem::JacobianMethod::whole_rhs);
+    timings.push_back(time_it("jacobian_whole_rhs", o, [&] {
+      problem.jacobian(0.0, y.data(), ydot.data(), jac.data());
+      sink += jac.back();
+    }));
+    problem.set_jacobian_method(KaneProblem::JacobianMethod::residual);
     std::vector<double> v(static_cast<std::size_t>(n)), jv(v.size());
     for (int i = 0; i < n; ++i) v[static_cast<std::size_t>(i)] = std::sin(1.0 + i);
     timings.push_back(time_it("jacobian_times", o, [&] {
@@ -192,6 +203,7 @@ int run_bench_rhs(const BenchOptions& o) {
     j.key("path").value(m.evaluate_planar() ? "planar" : "3d");
     j.key("seed").value(static_cast<long long>(o.seed));
     j.key("repeat").value(o.repeat);
+    j.key("jacobian_method").value(jacobian_method);
     if (!constrained_state.empty()) {
       // The consistent initial state [q; u] of the constrained timings, for peers to use.
       j.key("nconstraint_rows").value(m.nconstraint_rows);

@@ -1,5 +1,6 @@
 #include "sim/kane_problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -26,6 +27,10 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       y_dual_(model.nstate()),
       ydot_dual_(model.nstate()),
       sensitivity_blocks_(model, static_cast<int>(sens_.size())),
+      jacobian_values_(model),
+      acceleration_tangents_(model),
+      residual_value_(static_cast<std::size_t>(model.nu)),
+      jacobian_multipliers_(static_cast<std::size_t>(model.nconstraint_rows)),
       u_full_(static_cast<std::size_t>(model.nu)),
       s_full_(static_cast<std::size_t>(model.nstate())) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
@@ -46,6 +51,7 @@ void KaneProblem::set_sample(const SampleInputs& inputs) {
     const std::string why = model::check_parameters(model_, inputs.parameters.data());
     if (!why.empty()) throw InputError({}, "parameters", why);
     workspaces_.set_parameters(inputs.parameters);
+    dynamics::set_parameters(model_, jacobian_values_, inputs.parameters.data());
     holonomic_.set_parameters(inputs.parameters);
     initial_ = consistent_initial_state(model_, inputs, sens_, options_, t0_, workspaces_, holonomic_);
     if (embedded_) {
@@ -212,7 +218,10 @@ bool KaneProblem::after_step(double t, double* y, double* const* s) {
   return true;
 }
 
-void KaneProblem::jacobian(double t, const double* y, const double*, double* J) {
+void KaneProblem::jacobian(double t, const double* y, const double* ydot, double* J) {
+  last_jacobian_method_ = JacobianMethod::residual;
+  if (!embedded_ && jacobian_method_ == JacobianMethod::residual && residual_jacobian(t, y, ydot, J)) return;
+  last_jacobian_method_ = JacobianMethod::whole_rhs;
   const int n = size();
   jacobian_blocks_.for_each([&](auto& b) {
     for (int r = 0; r < n; ++r) {
@@ -225,6 +234,87 @@ void KaneProblem::jacobian(double t, const double* y, const double*, double* J) 
       for (int r = 0; r < n; ++r) column[r] = b.ydot[r].d(i);
     }
   });
+}
+
+bool KaneProblem::residual_jacobian(double t, const double* y, const double* ydot, double* J) {
+  const int n = size();
+  bool first = true, ok = true;
+  jacobian_blocks_.for_each([&](auto& b) {
+    if (!ok) return;
+    for (int r = 0; r < n; ++r) {
+      b.y[r].v = y[r];
+      b.y[r].set_tangents([&](int i) { return b.first + i == r ? 1.0 : 0.0; }, b.count);
+    }
+    ok = residual_pass(b.ws, t, b.y.data(), ydot, b.ydot.data(), b.constraint_residual.data(), first);
+    first = false;
+    if (!ok) return;
+    for (int i = 0; i < b.count; ++i) {
+      double* column = J + static_cast<std::ptrdiff_t>(b.first + i) * n;
+      for (int r = 0; r < n; ++r) column[r] = b.ydot[r].d(i);
+    }
+  });
+  return ok;
+}
+
+// The pass is at u̇ of ydot with λ = 0: r = f − M u̇, whose value is −Aᵀλ (which gives λ); the
+// tangent of Aᵀλ is added on values, then every tangent is solved at once.
+template <class S>
+bool KaneProblem::residual_pass(Workspace<S>& ws, double t, const S* y, const double* ydot, S* out, S* c,
+                                bool factor) {
+  Workspace<double>& wd = jacobian_values_;
+  const int nq = model_.nq, nu = model_.nu, nc = model_.nconstraint_rows;
+  const double* udot = ydot + nq;
+  double* lambda = jacobian_multipliers_.data();
+  dynamics::evaluate_residual(model_, ws, S(t), y, udot, nullptr, dynamics_, out, c);
+  S* du = out + nq;  // f − M u̇
+  if (factor) {
+    if (!dynamics::factor_mass_matrix_values(model_, ws, wd) || !acceleration_tangents_.prepare(model_, wd)) return false;
+    for (int k = 0; k < nu; ++k) residual_value_[static_cast<std::size_t>(k)] = math::value_of(du[k]);
+    acceleration_tangents_.multipliers(model_, wd, residual_value_.data(), lambda);
+    if (!residual_vanishes(c, udot)) return false;
+  }
+  for (int j = 0; j < nc; ++j)
+    for (int k = 0; k < nu; ++k) du[k] += ws.constraint_matrix(j, k) * lambda[j];
+  acceleration_tangents_.solve(model_, wd, du, c);
+  return true;
+}
+
+// Whether u̇ (and the λ found) solve the equations at the pass's state (ydot is f(t, y)):
+// f − M u̇ + Aᵀλ and A u̇ − b vanish to round-off relative to the largest of their terms.
+template <class S>
+bool KaneProblem::residual_vanishes(const S* c, const double* udot) const {
+  const Workspace<double>& wd = jacobian_values_;
+  const int nu = model_.nu, nc = model_.nconstraint_rows;
+  constexpr double tol = 1e-8;
+  const double* lambda = jacobian_multipliers_.data();
+  double scale = 0, worst = 0;
+  for (int k = 0; k < nu; ++k) {
+    double Mu = 0, At = 0;
+    for (int l = 0; l < nu; ++l) {
+      Mu += wd.mass_matrix(k, l) * udot[l];
+      scale = std::max(scale, std::abs(wd.mass_matrix(k, l) * udot[l]));
+    }
+    for (int j = 0; j < nc; ++j) {
+      At += wd.constraint_matrix(j, k) * lambda[j];
+      scale = std::max(scale, std::abs(wd.constraint_matrix(j, k) * lambda[j]));
+    }
+    const double r = residual_value_[static_cast<std::size_t>(k)];  // f − M u̇
+    scale = std::max(scale, std::abs(r + Mu));
+    worst = std::max(worst, std::abs(r + At));
+  }
+  if (!(worst <= tol * scale)) return false;
+  scale = worst = 0;
+  for (int j = 0; j < nc; ++j) {
+    double Au = 0;
+    for (int k = 0; k < nu; ++k) {
+      Au += wd.constraint_matrix(j, k) * udot[k];
+      scale = std::max(scale, std::abs(wd.constraint_matrix(j, k) * udot[k]));
+    }
+    const double cj = math::value_of(c[j]);  // A u̇ − b
+    scale = std::max(scale, std::abs(Au - cj));
+    worst = std::max(worst, std::abs(cj));
+  }
+  return worst <= tol * scale;
 }
 
 void KaneProblem::jacobian_times(double t, const double* y, const double*, const double* v, double* Jv) {

@@ -3,7 +3,9 @@
 // sensitivity right-hand sides from forward-mode dual numbers through the same templated code.
 //
 // Sensitivity i is with respect to a scene parameter or an initial condition (InputRef).
-//   Jacobian column j:      the right-hand side on Dual with tangent e_j on y, 0 on parameters.
+//   Jacobian column j:      the tangent e_j on y, 0 on parameters, through Kane's equations as a
+//                           residual at the current accelerations (JacobianMethod below) or
+//                           through the whole right-hand side.
 //   sensitivity rhs i:      the right-hand side on Dual with tangent s_i on y and e_p on
 //                           parameter p (0 for an initial condition) = J s_i + ∂f/∂p.
 //   initial sensitivity i:  the tangent of the consistent initial state (sim/initial_state.hpp).
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "dynamics/embedding.hpp"
+#include "dynamics/inverse_dynamics.hpp"
 #include "dynamics/options.hpp"
 #include "math/dual.hpp"
 #include "sim/constraint_options.hpp"
@@ -59,8 +62,25 @@ class KaneProblem final : public OdeProblem {
   void rhs(double t, const double* y, double* ydot) override;
   bool has_jacobian() const override { return true; }
   void jacobian(double t, const double* y, const double* ydot, double* J) override;
+  // How jacobian() differentiates u̇ = M⁻¹(f + Aᵀλ):
+  //   residual   (the default) one multi-tangent pass of Kane's equations as a residual at the
+  //              accelerations of ydot (= f(t, y), as the contract says: inverse dynamics,
+  //              dynamics/inverse_dynamics.hpp), then solves with M's and A M⁻¹ Aᵀ's factors on
+  //              values; the mass matrix is never formed on the tangent scalar. With the
+  //              multipliers formulation (or no constraint) where the constraint rows are
+  //              independent and ydot is consistent with y (checked: the residual's value
+  //              vanishes); otherwise whole_rhs.
+  //   whole_rhs  multi-tangent passes of the whole right-hand side: the embedding formulation,
+  //              redundant constraint rows, and tests comparing the two.
+  // Both are exact and agree to round-off.
+  enum class JacobianMethod { residual, whole_rhs };
+  void set_jacobian_method(JacobianMethod method) { jacobian_method_ = method; }
+  // The method the last jacobian() call took.
+  JacobianMethod last_jacobian_method() const { return last_jacobian_method_; }
   // J v from one pass of the right-hand side on Dual with tangent v on y (no parameter tangent):
-  // the same equations, constraint paths and partition as rhs().
+  // the same equations, constraint paths and partition as rhs(). (The residual form of
+  // jacobian() does not pay here: with one tangent, forming M's value factor per product costs
+  // more than the mass matrix's tangent saves.)
   bool has_jacobian_times() const override { return true; }
   void jacobian_times(double t, const double* y, const double* ydot, const double* v, double* Jv) override;
   int num_sensitivities() const override { return static_cast<int>(sens_.size()); }
@@ -169,6 +189,22 @@ class KaneProblem final : public OdeProblem {
   // (each parameter sensitivity's tangent e_p set per sample).
   TangentBlocks jacobian_blocks_, sensitivity_blocks_;
   int jacobian_blocks_size_ = -1;
+  // The residual Jacobian: M's and A M⁻¹ Aᵀ's factors on values at the state, the tangent
+  // solve, scratch (r's value (nu), λ (m)).
+  JacobianMethod jacobian_method_ = JacobianMethod::residual, last_jacobian_method_ = JacobianMethod::residual;
+  dynamics::Workspace<double> jacobian_values_;
+  dynamics::AccelerationTangents acceleration_tangents_;
+  std::vector<double> residual_value_, jacobian_multipliers_;
+  // False when the residual form does not apply at this state (J then holds no result).
+  bool residual_jacobian(double t, const double* y, const double* ydot, double* J);
+  // One residual pass on ws at the seeded state y (dynamics/inverse_dynamics.hpp): out (nstate)
+  // gets q̇ and u̇ with their tangents, c (m) is scratch. `factor`: form the value factors from
+  // this pass (else those of the last one, at the same state, are used). False when the
+  // residual form does not apply.
+  template <class S>
+  bool residual_pass(dynamics::Workspace<S>& ws, double t, const S* y, const double* ydot, S* out, S* c, bool factor);
+  template <class S>
+  bool residual_vanishes(const S* c, const double* udot) const;
   template <int W>
   void evaluate_block(TangentBlock<W>& b, double t);
   // Few sensitivities: one Dual pass each costs less than a block of the narrowest compiled

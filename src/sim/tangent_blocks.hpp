@@ -17,11 +17,17 @@ template <int W>
 struct TangentBlock {
   using Scalar = math::MultiDual<W>;
   TangentBlock(const model::Model& m, int first_direction, int directions)
-      : first(first_direction), count(directions), ws(m), y(m.nstate()), ydot(m.nstate()) {}
+      : first(first_direction),
+        count(directions),
+        ws(m),
+        y(m.nstate()),
+        ydot(m.nstate()),
+        constraint_residual(m.nconstraint_rows) {}
   int first, count;  // directions [first, first + count), count ≤ W
   dynamics::Workspace<Scalar> ws;
   std::unique_ptr<dynamics::EmbeddingScratch<Scalar>> embedding;
   std::vector<Scalar> y, ydot;
+  std::vector<Scalar> constraint_residual;  // m: c of dynamics::evaluate_residual
 };
 
 // k directions take ⌈k/16⌉ passes: blocks of 16 and one block of the smallest width that holds
