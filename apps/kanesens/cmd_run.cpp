@@ -18,18 +18,19 @@ int run_run(const parallel::RunOptions& o, const std::string& study, bool json) 
     const parallel::RunSummary s = parallel::run_ensemble(MPI_COMM_WORLD, study, o);
     if (mpi.rank() == 0) {
       const double busy = s.compute_seconds + s.io_seconds + s.schedule_seconds;
+      // Finished samples: after a signal fewer than attempted.
+      const double rate = static_cast<double>(s.ok + s.failed) / std::max(s.wall_seconds, 1e-9);
       if (json) {
         std::printf(
             "{\"output\": \"%s\", \"samples\": %lld, \"attempted\": %lld, \"ok\": %lld, \"failed\": %lld, "
             "\"ranks\": %d, \"wall_seconds\": %.6f, \"samples_per_second\": %.6g, \"compute_seconds\": %.6f, "
             "\"io_seconds\": %.6f, \"schedule_seconds\": %.6f}\n",
-            s.output.c_str(), s.total, s.attempted, s.ok, s.failed, s.ranks, s.wall_seconds,
-            s.attempted / std::max(s.wall_seconds, 1e-9), s.compute_seconds, s.io_seconds, s.schedule_seconds);
+            s.output.c_str(), s.total, s.attempted, s.ok, s.failed, s.ranks, s.wall_seconds, rate,
+            s.compute_seconds, s.io_seconds, s.schedule_seconds);
       } else {
         std::printf("kanesens run: %lld samples (%lld run now) on %d rank%s -> %s\n", s.total, s.attempted, s.ranks,
                     s.ranks == 1 ? "" : "s", s.output.c_str());
-        std::printf("  ok %lld, failed %lld; wall %.3f s, %.1f samples/s\n", s.ok, s.failed, s.wall_seconds,
-                    s.attempted / std::max(s.wall_seconds, 1e-9));
+        std::printf("  ok %lld, failed %lld; wall %.3f s, %.1f samples/s\n", s.ok, s.failed, s.wall_seconds, rate);
         std::printf("  rank time: integrate %.1f%%, HDF5 writes %.2f%%, scheduling %.2f%%\n",
                     100 * s.compute_seconds / std::max(busy, 1e-12), 100 * s.io_seconds / std::max(busy, 1e-12),
                     100 * s.schedule_seconds / std::max(busy, 1e-12));
@@ -70,7 +71,7 @@ CLI::App* add_run(CLI::App& app, Action& action) {
   auto study = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
   cmd->add_option("study", *study, "Study YAML file")->required();
-  cmd->add_option("-o,--output", o->output, "Output HDF5 file (default: <study name>.h5)");
+  cmd->add_option("-o,--output", o->output, "Output HDF5 file (default: the study file's name with .h5, in the working directory)");
   cmd->add_flag("--resume", o->resume, "Finish the samples not yet run in an existing output of the same study");
   cmd->add_flag("--overwrite", o->overwrite, "Replace an existing output file");
   cmd->add_option("--samples", o->samples, "Override sampling.samples")->check(integer_in(1, 1LL << 62));

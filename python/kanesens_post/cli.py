@@ -87,8 +87,9 @@ def cmd_summary(args, ds):
         d = r["energy_drift"]
         lines.append(f"energy drift max |E(t) - E(0)| = {_fmt(d['max_abs'])} J "
                      f"(relative {_fmt(d['relative'])}, sample {d['sample']})")
-    if "constraint_residual_max" in r:
-        lines.append(f"constraint residual max = {_fmt(r['constraint_residual_max'])}")
+    if "position_residual_max" in r or "velocity_residual_max" in r:
+        lines.append(f"constraint residuals: max |g| = {_fmt(r.get('position_residual_max'))}, "
+                     f"max |A u + a0| = {_fmt(r.get('velocity_residual_max'))}")
     return r, "\n".join(lines)
 
 

@@ -131,7 +131,8 @@ def _group(path, group: str, prefix: str, ok, mask: bool) -> dict:
 def open_run(path) -> xr.Dataset:
     """Open a run file lazily (see the module docstring for what the Dataset holds)."""
     ds = xr.open_dataset(path, engine="h5netcdf", phony_dims="access")
-    for needed in ("status", "parameters", "states", "time"):
+    # /parameters exists only with vary: entries, /states only with record: states.
+    for needed in ("status", "time"):
         if needed not in ds.variables:
             raise RunFileError(f"{path}: no /{needed} dataset; is this a kanesens run file?")
     status = np.asarray(ds["status"].values)
@@ -187,6 +188,8 @@ def response(ds: xr.Dataset, name: str) -> xr.DataArray:
     """The values called `name`: a state (from /states, (sample, time)) or an output (from
     /outputs: (sample, time), or (sample) for an output that is one number per sample)."""
     if "state" in ds.coords and name in ds["state"].values:
+        if "states" not in ds:
+            raise RunFileError(f"'{name}' is a state, but the file has no /states (record: [states])")
         return ds["states"].sel(state=name, drop=True).rename(name)
     if OUTPUT_PREFIX + name in ds:
         return ds[OUTPUT_PREFIX + name].rename(name)
@@ -343,6 +346,8 @@ def design(ds: xr.Dataset) -> Design:
     base point, Morris runs as trajectories of P+1 consecutive rows, the distributions from the
     study text."""
     method = str(ds.attrs.get("sampling_method", "")).lower()
+    if "parameters" not in ds:
+        raise RunFileError("the run varies no input (no /parameters: the study has no vary: entries)")
     dists = _distributions(ds)
     columns = [str(n) for n in ds["parameter"].values]
     params = np.asarray(ds["parameters"].values, dtype=float)

@@ -1,5 +1,6 @@
 """What a run file holds and how the run went: sample counts by status, solver effort, energy
-drift and constraint residual (the outputs `energy` and `constraint_residual`, when recorded)."""
+drift and constraint residuals (the outputs `energy`, `position_residual` and
+`velocity_residual`, when recorded)."""
 from __future__ import annotations
 
 from collections import Counter
@@ -49,9 +50,11 @@ def summarize(ds) -> dict:
                                "sample": int(np.flatnonzero(ok)[worst]),
                                "relative": float(drift[worst] / max(abs(energy[worst, 0]),
                                                                     np.finfo(float).tiny))}
-    if "constraint_residual" in out["outputs"] and ok.any():
-        residual = np.abs(np.asarray(ds[OUTPUT_PREFIX + "constraint_residual"].values)[ok])
-        out["constraint_residual_max"] = float(residual.max())
+    # record: constraint_residual writes max |g| and max |A u + a0| per output time.
+    for name in ("position_residual", "velocity_residual"):
+        if name in out["outputs"] and ok.any():
+            residual = np.abs(np.asarray(ds[OUTPUT_PREFIX + name].values, float)[ok])
+            out[name + "_max"] = float(np.nanmax(residual))
     return out
 
 

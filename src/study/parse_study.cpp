@@ -43,7 +43,9 @@ void parse_time(const YAML::Node& n, const YamlReader& r, StudySpec& st) {
   const std::string key = "time";
   r.check_keys(n, key, {"start", "end", "outputs", "times"});
   if (n["times"]) {
-    if (n["end"] || n["outputs"]) r.fail(n, key, "give either 'times' (a list) or 'end' and 'outputs', not both");
+    // The first listed time is the initial time; a `start` beside it would be silently ignored.
+    if (n["start"] || n["end"] || n["outputs"])
+      r.fail(n, key, "give either 'times' (a list; the first is the initial time) or 'start', 'end' and 'outputs', not both");
     r.require_sequence(n["times"], key + ".times");
     for (std::size_t i = 0; i < n["times"].size(); ++i)
       st.output_times.push_back(read_setting(r, n["times"][i], key + ".times[" + std::to_string(i) + "]"));
@@ -114,7 +116,7 @@ void parse_solver(const YAML::Node& n, const YamlReader& r, sim::SolverOptions& 
     }
   }
   if (n["max_steps"]) o.max_steps = read_whole_setting(r, n["max_steps"], key + ".max_steps", 1);
-  if (n["max_order"]) o.max_order = static_cast<int>(read_whole_setting(r, n["max_order"], key + ".max_order", 1, 12));
+  if (n["max_order"]) o.max_order = static_cast<int>(read_whole_setting(r, n["max_order"], key + ".max_order", 0, 12));
   if (n["initial_step"]) o.initial_step = read_setting(r, n["initial_step"], key + ".initial_step");
   if (n["max_step"]) o.max_step = read_setting(r, n["max_step"], key + ".max_step");
   if (n["jacobian"])

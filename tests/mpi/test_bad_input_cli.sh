@@ -94,7 +94,7 @@ expect_bad run-chunk-zero "--chunk: expected a whole number from 1 to" out7.h5 m
 expect_bad run-samples-negative "--samples: expected a whole number ≥ 1, found '-5'" out7.h5 mpirun_run study.yaml -o out7.h5 --samples -5
 expect_bad run-missing-study "study is required" - mpirun_run -o out7.h5
 sed 's/^time:.*/time: {end: 0.2, outputs: 5}\nsolver: {max_order: 4294967297}/' study.yaml > max_order.yaml
-expect_bad run-max-order-overflow "max_order.yaml:[0-9]*:[0-9]*: solver.max_order: expected a whole number from 1 to 12, found 4294967297" out7.h5 mpirun_run max_order.yaml -o out7.h5
+expect_bad run-max-order-overflow "max_order.yaml:[0-9]*:[0-9]*: solver.max_order: expected a whole number from 0 to 12, found 4294967297" out7.h5 mpirun_run max_order.yaml -o out7.h5
 
 # ---- Input files are bounded text -----------------------------------------------------------
 expect_bad check-dev-zero "/dev/zero: file is larger than 16 MiB" - "$KANESENS" check /dev/zero

@@ -138,7 +138,7 @@ run long.yaml -o term.h5 --resume >/dev/null
 check status term.h5 400 0 0
 check same reference.h5 term.h5
 
-"$KANESENS" run long.yaml -o int.h5 --chunk 1 >/dev/null 2>int.err &
+"$KANESENS" run long.yaml -o int.h5 --chunk 1 --json >int.json 2>int.err &
 pid=$!
 wait_for int.h5; sleep 1
 kill -INT $pid
@@ -146,6 +146,14 @@ set +e; wait $pid; rc=$?; set -e
 [[ $rc -eq 130 ]] || { echo "FAIL: SIGINT exit code $rc, expected 130"; cat int.err; exit 1; }
 grep -q "interrupted by SIGINT" int.err
 interrupted_ok int.h5
+# The summary of a stopped run: the rate counts the samples finished, not those it set out to run.
+py int.json <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["attempted"] == 400 and 0 < s["ok"] + s["failed"] < 400, s
+rate = (s["ok"] + s["failed"]) / s["wall_seconds"]
+assert abs(s["samples_per_second"] - rate) <= 1e-4 * rate, s
+PY
 "$KANESENS" run long.yaml -o int.h5 --resume >/dev/null
 check same reference.h5 int.h5
 echo "signals: ok"

@@ -298,7 +298,7 @@ def pendulum_run(path, x, method, samples, nt, t_end, seed, fail, legacy=False):
     message = [""] * ns
     states = np.stack([th, thd], axis=-1)
     for i in fail:
-        status[i] = -3
+        status[i] = -4
         message[i] = "CV_CONV_FAILURE at t = 4.2"
     rng = np.random.default_rng(seed + 1)
     stats = {"steps": rng.integers(300, 500, ns), "rhs_evals": rng.integers(400, 900, ns),

@@ -3,9 +3,12 @@
 Convention in docs/getting-started.md and docs/tutorials/*.md: a fenced block marked ```bash is
 a command a reader runs from the repository root, and this test runs it; a ```python block is
 a script, run with /usr/bin/python3; blocks marked ```sh (installing packages, building, a real
-cluster) or ```text are shown only. Blocks run in page order in one scratch directory that holds
-the repository's configs/, scripts/ and python/ (links), with `kanesens` and `kanesens-post` on
-PATH. On the Slurm tutorial `sbatch` and `srun` are stand-ins that run the batch script and
+cluster) or ```text are shown only, except that a ```text block right after a ```bash block
+(nothing but blank lines between) is that command's output: each of its lines must be a line the
+command printed (stdout or stderr), numbers equal to 1e-3 relative (1e-9 absolute: round-off
+digits differ between machines), and a line ending in `...` only needs to begin the same. Blocks
+run in page order in one scratch directory that holds the repository's configs/, scripts/ and
+python/ (links), with `kanesens` and `kanesens-post` on PATH. On the Slurm tutorial `sbatch` and `srun` are stand-ins that run the batch script and
 `mpirun` on this machine, so the batch script itself is what runs.
 """
 import os
@@ -26,8 +29,52 @@ BLOCK = re.compile(r"^```(\w+)[^\n]*\n(.*?)^```\s*$", re.S | re.M)
 
 
 def blocks(page):
-    return [(lang, body) for lang, body in BLOCK.findall(page.read_text(encoding="utf-8"))
-            if lang in ("bash", "python")]
+    return [(lang, body) for lang, body, _ in blocks_with_output(page)]
+
+
+def blocks_with_output(page):
+    """(lang, body, expected output or None) of every ```bash and ```python block."""
+    text = page.read_text(encoding="utf-8")
+    found = list(BLOCK.finditer(text))
+    out = []
+    for m, after in zip(found, found[1:] + [None]):
+        if m.group(1) not in ("bash", "python"):
+            continue
+        shown = None
+        if (m.group(1) == "bash" and after is not None and after.group(1) == "text"
+                and text[m.end():after.start()].strip() == ""):
+            shown = after.group(2)
+        out.append((m.group(1), m.group(2), shown))
+    return out
+
+
+def _same_token(want, got):
+    if want == got:
+        return True
+    a, b = want.strip("[](),;"), got.strip("[](),;")
+    if want.replace(a, "") != got.replace(b, ""):  # the same brackets and commas around
+        return False
+    try:
+        x, y = float(a), float(b)
+    except ValueError:
+        return False
+    return abs(x - y) <= max(1e-9, 1e-3 * abs(x))
+
+
+def line_shown(want, printed):
+    """`want` (a line of a ```text block) is one of the `printed` lines, as the module docstring says."""
+    want = want.strip()
+    prefix = want.endswith("...")
+    w = want[:-3].split() if prefix else want.split()
+    for line in printed:
+        g = line.split()
+        if prefix:
+            if len(g) >= len(w) and all(_same_token(a, b) for a, b in zip(w[:-1], g)) and \
+                    (not w or g[len(w) - 1].startswith(w[-1])):
+                return True
+        elif len(g) == len(w) and all(_same_token(a, b) for a, b in zip(w, g)):
+            return True
+    return False
 
 
 def write_exe(path, text):
@@ -74,7 +121,7 @@ def test_every_page_has_runnable_blocks():
 @pytest.mark.parametrize("page", PAGES, ids=[p.stem for p in PAGES])
 def test_page_runs_as_written(page, tmp_path):
     env = scratch(tmp_path)
-    for i, (lang, body) in enumerate(blocks(page)):
+    for i, (lang, body, shown) in enumerate(blocks_with_output(page)):
         if lang == "bash":
             cmd = ["bash", "-euo", "pipefail", "-c", body]
         else:
@@ -85,6 +132,22 @@ def test_page_runs_as_written(page, tmp_path):
         assert r.returncode == 0, (f"{page.relative_to(ROOT)}, block {i + 1} ({lang}) failed "
                                    f"with {r.returncode}:\n{body}\n--- stdout\n{r.stdout[-3000:]}\n"
                                    f"--- stderr\n{r.stderr[-3000:]}")
+        if shown is not None:
+            printed = (r.stdout + "\n" + r.stderr).splitlines()
+            missing = [line for line in shown.splitlines() if line.strip() and not line_shown(line, printed)]
+            assert not missing, (f"{page.relative_to(ROOT)}, block {i + 1}: the output shown after it is not "
+                                 f"what it printed:\n" + "\n".join(missing) + "\n--- printed\n" + "\n".join(printed))
+
+
+def test_line_shown_is_strict():
+    printed = ["t [s]  mean  std", "    2  0.1493  0.0003572", "error: out/a.yaml:9:27: bad 'x'; types are: a, b, c"]
+    assert line_shown("    2    0.1493  0.0003572", printed)
+    assert line_shown("2 0.14931 0.0003572", printed)                # 1e-3 relative
+    assert not line_shown("2 0.15 0.0003572", printed)
+    assert not line_shown("2 0.1493", printed)                       # a column missing
+    assert line_shown("error: out/a.yaml:9:27: bad 'x'; types are: a, ...", printed)
+    assert not line_shown("error: out/a.yaml:9:28: bad 'x'; types are: a, ...", printed)
+    assert line_shown("  m  -4.0e-12 [-1.0e-11,", ["  m  -4.7e-12 [-1.4e-11,"])  # round-off digits
 
 
 def test_getting_started_lists_the_packages_install_deps_installs():

@@ -31,7 +31,7 @@ def test_failed_samples_are_nan_and_reads_are_lazy(pendulum):
     ds = open_run(pendulum)
     assert not ds.states.variable._in_memory            # nothing read yet
     status = ds.status.values
-    assert (status[[5, 77]] == -3).all() and ds.message.values[5].startswith("CV_CONV")
+    assert (status[[5, 77]] == -4).all() and ds.message.values[5].startswith("CV_CONV")
     assert np.isnan(ds.states.values[5]).all() and np.isnan(ds.output_energy.values[77]).all()
     assert np.isfinite(ds.states.values[status == 1]).all()
     # inputs and counters of a failed sample stay readable

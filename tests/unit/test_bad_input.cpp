@@ -268,6 +268,8 @@ std::vector<Case> study_cases() {
       {"StudyTimeEndNan", Kind::study, edit(s, "{end: 1,", "{end: .nan,"), {"StudyTimeEndNan.yaml:10:", "time.end", "finite"}},
       {"StudyTimeEndHuge", Kind::study, edit(s, "{end: 1,", "{end: 1e400,"), {"StudyTimeEndHuge.yaml:10:", "time.end"}},
       {"StudyOutputsOne", Kind::study, edit(s, "outputs: 11", "outputs: 1"), {"StudyOutputsOne.yaml:10:", "time.outputs", "whole number"}},
+      {"StudyTimesWithStart", Kind::study, edit(s, "{end: 1, outputs: 11}", "{start: 0, times: [1, 2]}"), {"StudyTimesWithStart.yaml:10:", "time", "not both"}},
+      {"StudyNegativeMaxOrder", Kind::study, s + "solver: {max_order: -1}\n", {"StudyNegativeMaxOrder.yaml:15:", "solver.max_order", "from 0 to 12"}},
       {"StudyTimesNotIncreasing", Kind::study, edit(s, "{end: 1, outputs: 11}", "{times: [0, 1, 1]}"), {"StudyTimesNotIncreasing.yaml:10:", "time.times[2]", "strictly increasing"}},
       {"StudyNegativeRtol", Kind::study, s + "solver: {rtol: -1}\n", {"StudyNegativeRtol.yaml:15:", "solver", "rtol"}},
       {"StudyRtolWrongType", Kind::study, s + "solver: {rtol: tight}\n", {"StudyRtolWrongType.yaml:15:", "solver.rtol", "expected a number"}},
@@ -328,7 +330,7 @@ std::vector<Case> study_cases() {
       {"StudyAdamsOnConstrainedSceneByDefault", Kind::study, edit(s, "q0: 0.3}", "q0: 0.3}\n  constraints:\n    - {name: g, type: general, position: \"hinge.q - 0.3\"}") + "solver: {method: adams}\n", {"StudyAdamsOnConstrainedSceneByDefault.yaml:17:18", "solver.method", "default stabilization is projection", "baumgarte"}},
       {"StudyDegenerateConstraint", Kind::study, edit(s, "q0: 0.3}", "q0: 0}\n  constraints:\n    - {name: g, type: general, position: \"hinge.q^2\"}"), {"StudyDegenerateConstraint.yaml:11:7", "scene.constraints[0]", "constraint 'g' constrains nothing at the initial state"}},
       {"StudyMassMatrixSingularAtT0", Kind::study, edit(s, "{shape: rod, length: L, axis: y}}", "{shape: point}}"), {"StudyMassMatrixSingularAtT0.yaml:3:3", "mass matrix is not positive definite"}},
-      {"StudyMaxOrderOverflow", Kind::study, s + "solver: {max_order: 4294967297}\n", {"StudyMaxOrderOverflow.yaml:15:", "solver.max_order", "from 1 to 12"}},
+      {"StudyMaxOrderOverflow", Kind::study, s + "solver: {max_order: 4294967297}\n", {"StudyMaxOrderOverflow.yaml:15:", "solver.max_order", "from 0 to 12"}},
   };
 }
 
@@ -421,4 +423,10 @@ TEST(BadInputTable, GoodTextsAreGood) {
   const auto path = temp_dir() / "good.yaml";
   std::ofstream(path) << kStudy;
   EXPECT_NO_THROW(parallel::validate_study(path.string(), {}));
+  // max_order 0 is CVODES's own default (docs/reference/study.md, solver), as a value too.
+  std::ofstream(path) << kStudy + "solver: {method: adams, max_order: 0}\n";
+  EXPECT_NO_THROW(parallel::validate_study(path.string(), {}));
+  parallel::RunOptions bdf;
+  bdf.set = {"solver.max_order=0", "solver.method=bdf"};
+  EXPECT_NO_THROW(parallel::validate_study(path.string(), bdf));
 }
