@@ -22,21 +22,12 @@ template <class S>
 S power(const Vec6<S>& s, bool rotation, const Vec6<S>& F) {
   return rotation ? S(s.template head<3>().dot(F.template head<3>())) : S(s.template tail<3>().dot(F.template tail<3>()));
 }
-}  // namespace
 
+// ws.speed_offset[k] for the first speed k of each joint: its body's reference point minus that
+// of the nearest ancestor body whose joint has speeds (0 for a root); the other speeds of a joint
+// share its body, so their offsets stay 0.
 template <class S>
-void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
-  if (m.evaluate_planar()) return detail::compute_mass_matrix_planar(m, ws);
-  // Composite rigid bodies (Featherstone 2008 §6.2), each at its own reference point.
-  const int nb = m.nbody();
-  for (int b = 0; b < nb; ++b) ws.composite_inertia[b] = ws.spatial_inertia[b];
-  for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
-    const Joint& J = m.joints[*it];
-    if (J.parent >= 0) ws.composite_inertia[J.child].add_to_parent(ws.joint_offset[*it], ws.composite_inertia[J.parent]);
-  }
-  // M_kl = s_k · (I^c_C s_l) for every speed k moving C (the ancestors of l along
-  // Model::speed_parent), the momentum I^c_C s_l = (τ, f) carried from Q_C to each ancestor's
-  // reference point on the way to the root: f stays, τ gains r × f for each offset r passed.
+void compute_speed_offsets(const Model& m, Workspace<S>& ws) {
   const int* parent = m.speed_parent.data();
   for (const Joint& J : m.joints) {
     if (J.nu == 0) continue;
@@ -50,6 +41,25 @@ void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
         if (m.joints[m.bodies[b].joint].nu > 0) break;
       }
   }
+}
+
+}  // namespace
+
+template <class S>
+void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
+  compute_speed_offsets(m, ws);
+  if (m.evaluate_planar()) return detail::compute_mass_matrix_planar(m, ws);
+  // Composite rigid bodies (Featherstone 2008 §6.2), each at its own reference point.
+  const int nb = m.nbody();
+  for (int b = 0; b < nb; ++b) ws.composite_inertia[b] = ws.spatial_inertia[b];
+  for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
+    const Joint& J = m.joints[*it];
+    if (J.parent >= 0) ws.composite_inertia[J.child].add_to_parent(ws.joint_offset[*it], ws.composite_inertia[J.parent]);
+  }
+  // M_kl = s_k · (I^c_C s_l) for every speed k moving C (the ancestors of l along
+  // Model::speed_parent), the momentum I^c_C s_l = (τ, f) carried from Q_C to each ancestor's
+  // reference point on the way to the root: f stays, τ gains r × f for each offset r passed.
+  const int* parent = m.speed_parent.data();
   S* M = ws.mass_matrix.data();
   const std::ptrdiff_t ld = ws.mass_matrix.rows();
   const Vec3<S>* offset = ws.speed_offset.data();

@@ -5,6 +5,7 @@
 // R, joint_offset, tree_anchor, tree_position and the 6-D velocity are still filled for force
 // elements and energies.
 #include <cmath>
+#include <type_traits>
 
 #include "math/dual.hpp"
 #include "math/dual2.hpp"
@@ -118,28 +119,49 @@ void compute_mass_matrix_planar(const Model& m, Workspace<S>& ws) {
       ws.composite_planar[J.child].add_to_parent(r[0], r[1], ws.composite_planar[J.parent]);
     }
   }
-  auto power = [](const PVec<S>& s, bool rotation, const PVec<S>& F) {
-    return rotation ? S(s[0] * F[0]) : S(s[1] * F[1] + s[2] * F[2]);
+  // As the 3-D stage (dynamics/equations.cpp): M_kl = s_k · (I^c s_l) for the speeds k on l's
+  // walk along Model::speed_parent, the momentum (τ, f) carried by ws.speed_offset (τ gains
+  // r × f); columns paired with a child column share the walk, two at a time.
+  const int* parent = m.speed_parent.data();
+  const unsigned char* rotation = m.speed_rotation.data();
+  const PVec<S>* s = ws.partial_planar.data();
+  const Vec3<S>* offset = ws.speed_offset.data();
+  S* M = ws.mass_matrix.data();
+  const std::ptrdiff_t ld = ws.mass_matrix.rows();
+  auto power = [&](int k, const auto& t, const auto& fx, const auto& fy) {
+    using R = std::decay_t<decltype(t)>;
+    return rotation[k] ? R(s[k][0] * t) : R(s[k][1] * fx + s[k][2] * fy);
   };
-  for (const Joint& J : m.joints) {
-    for (int l = J.u_offset; l < J.u_offset + J.nu; ++l) {
-      PVec<S> F = ws.composite_planar[J.child] * ws.partial_planar[l];
-      for (int k = J.u_offset; k <= l; ++k) {
-        const S Mkl = power(ws.partial_planar[k], J.speeds[k - J.u_offset].rotation, F);
-        ws.mass_matrix(k, l) = Mkl;
-        ws.mass_matrix(l, k) = Mkl;
+  using P2 = Eigen::Array<S, 2, 1>;  // columns l, l2 side by side
+  for (const auto& [l, l2] : ws.mass_matrix_columns) {
+    const PVec<S> F = ws.composite_planar[m.speed_body[l]] * s[l];
+    M[l * ld + l] = power(l, F[0], F[1], F[2]);
+    if (l2 < 0) {
+      const S fx = F[1], fy = F[2];
+      S t = F[0];
+      for (int kp = l, k = parent[l]; k >= 0; kp = k, k = parent[k]) {
+        t += offset[kp][0] * fy - offset[kp][1] * fx;
+        const S Mkl = power(k, t, fx, fy);
+        M[l * ld + k] = Mkl;
+        M[k * ld + l] = Mkl;
       }
-      for (int b = J.child; m.bodies[b].parent >= 0;) {
-        const Vec3<S>& r = ws.joint_offset[m.bodies[b].joint];
-        F[0] += r[0] * F[2] - r[1] * F[1];
-        b = m.bodies[b].parent;
-        const Joint& K = m.joints[m.bodies[b].joint];
-        for (int k = K.u_offset; k < K.u_offset + K.nu; ++k) {
-          const S Mkl = power(ws.partial_planar[k], K.speeds[k - K.u_offset].rotation, F);
-          ws.mass_matrix(k, l) = Mkl;
-          ws.mass_matrix(l, k) = Mkl;
-        }
-      }
+      continue;
+    }
+    PVec<S> F2 = ws.composite_planar[m.speed_body[l2]] * s[l2];
+    M[l2 * ld + l2] = power(l2, F2[0], F2[1], F2[2]);
+    F2[0] += offset[l2][0] * F2[2] - offset[l2][1] * F2[1];
+    const S Mll2 = power(l, F2[0], F2[1], F2[2]);
+    M[l2 * ld + l] = Mll2;
+    M[l * ld + l2] = Mll2;
+    const P2 fx(F[1], F2[1]), fy(F[2], F2[2]);
+    P2 t(F[0], F2[0]);
+    for (int kp = l, k = parent[l]; k >= 0; kp = k, k = parent[k]) {
+      t += offset[kp][0] * fy - offset[kp][1] * fx;
+      const P2 Mk = power(k, t, fx, fy);
+      M[l * ld + k] = Mk[0];
+      M[l2 * ld + k] = Mk[1];
+      M[k * ld + l] = Mk[0];
+      M[k * ld + l2] = Mk[1];
     }
   }
 }
