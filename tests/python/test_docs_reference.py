@@ -341,17 +341,25 @@ USER_PAGES = ["README.md", "docs/getting-started.md"] + [f"docs/tutorials/{p.nam
                                                          sorted((ROOT / "docs/tutorials").glob("*.md"))]
 
 
+def documented_options(reference: str, command_line: str, exclude=frozenset()) -> dict:
+    """Every --option the reference page names (but `exclude`), and every option on a command
+    line matching `command_line` on the user pages, each with the page that names it."""
+    named = {o: f"docs/reference/{reference}" for o in options((REF / reference).read_text(encoding="utf-8"))
+             if o not in exclude}
+    for page in USER_PAGES:
+        text = (ROOT / page).read_text(encoding="utf-8").replace("\\\n", " ")
+        for line in re.findall(command_line, text):
+            named.update({o: page for o in options(line)})
+    return named
+
+
 @pytest.mark.skipif(not KANESENS, reason="needs the kanesens executable (KANESENS)")
 def test_documented_kanesens_options_exist():
     """Every --option cli.md names, and every option of a `kanesens SUB ...` command line on the
     user pages, is one some `kanesens ... --help` lists."""
     existing = options(all_help(*[(KANESENS,) + c for c in KANESENS_COMMANDS]))
     assert {"--set", "--sens", "--chunk", "--batch-seconds"} <= existing
-    named = {o: "docs/reference/cli.md" for o in options((REF / "cli.md").read_text(encoding="utf-8"))}
-    for page in USER_PAGES:
-        text = (ROOT / page).read_text(encoding="utf-8").replace("\\\n", " ")
-        for line in re.findall(r"(?<![\w-])kanesens (?:check|eom|linearize|simulate|run|bench)\b[^\n`]*", text):
-            named.update({o: page for o in options(line)})
+    named = documented_options("cli.md", r"(?<![\w-])kanesens (?:check|eom|linearize|simulate|run|bench)\b[^\n`]*")
     bad = sorted(f"{o} ({where})" for o, where in named.items() if o not in existing)
     assert bad == [], "documented but not an option of kanesens: " + ", ".join(bad)
 
@@ -365,12 +373,7 @@ def test_documented_kanesens_post_options_exist():
     subs = re.search(r"\{([a-z,-]+)\}", top).group(1).split(",")
     existing = options(top + "".join(run(s) for s in subs))
     pip = {"--no-build-isolation", "--no-deps", "--no-index", "--system-site-packages", "--samples"}
-    named = {o: "docs/reference/python.md" for o in options((REF / "python.md").read_text(encoding="utf-8"))
-             if o not in pip}
-    for page in USER_PAGES:
-        text = (ROOT / page).read_text(encoding="utf-8").replace("\\\n", " ")
-        for line in re.findall(r"kanesens-post [a-z-]+ [^\n`]*", text):
-            named.update({o: page for o in options(line)})
+    named = documented_options("python.md", r"kanesens-post [a-z-]+ [^\n`]*", exclude=pip)
     bad = sorted(f"{o} ({where})" for o, where in named.items() if o not in existing)
     assert bad == [], "documented but not an option of kanesens-post: " + ", ".join(bad)
 
