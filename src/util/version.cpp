@@ -6,7 +6,10 @@
 namespace kanesens {
 
 std::string version_short() {
-  return std::string(KANESENS_VERSION_STRING) + " (git " + KANESENS_GIT_REVISION + ")";
+  std::string v = std::string(KANESENS_VERSION_STRING) + " (git " + KANESENS_GIT_REVISION + ")";
+  // A build for an instruction set says so: its results may differ at round-off from the baseline's.
+  if (const std::string arch = KANESENS_ARCH; !arch.empty()) v += " -march=" + arch;
+  return v;
 }
 
 }  // namespace kanesens
