@@ -133,6 +133,18 @@ def sensitivity_cost_few_constrained():
     return printed(m.table, path) + source(path)
 
 
+def jacobian_cost_arch():
+    import jacobian_cost as m
+    path = RESULTS / "jacobian_cost_arch.json"
+    return printed(m.table, path) + source(path)
+
+
+def sensitivity_cost_arch():
+    import sensitivity_cost as m
+    path = RESULTS / "sensitivity_cost_arch.json"
+    return printed(m.table, path) + source(path)
+
+
 def sensitivity_corrector():
     import sensitivity_corrector as m
     path = RESULTS / "sensitivity_corrector.json"
@@ -810,7 +822,8 @@ TABLES = {
     "rhs_mujoco": rhs_mujoco, "rhs_paths": rhs_paths, "jacobian_cost": jacobian_cost,
     "sensitivity_cost": sensitivity_cost, "sensitivity_cost_few": sensitivity_cost_few,
     "sensitivity_cost_few_constrained": sensitivity_cost_few_constrained,
-    "sensitivity_cost_jacobian": sensitivity_cost_jacobian, "multitangent": multitangent, "outputs_cost": outputs_cost,
+    "sensitivity_cost_jacobian": sensitivity_cost_jacobian, "jacobian_cost_arch": jacobian_cost_arch,
+    "sensitivity_cost_arch": sensitivity_cost_arch, "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,
     "sensitivities": sensitivities_table, "constraints": constraints_table, "ensemble": ensemble_table,
