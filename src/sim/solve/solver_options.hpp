@@ -3,6 +3,7 @@
 #pragma once
 #include <optional>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace kanesens::sim {
@@ -54,6 +55,24 @@ struct SolverOptions {
   // (checks atol_per_state); pass -1 to skip size-dependent checks.
   void validate(int n = -1) const;
 };
+
+// Every value of each option with its name in the study file (`solver:`) and in the outputs; the
+// parser reads these tables in this order (its "expected one of ..." lists them), to_string too.
+inline constexpr std::pair<std::string_view, Method> kMethodNames[] = {
+    {"bdf", Method::bdf}, {"adams", Method::adams}, {"dop853", Method::dop853}};
+inline constexpr std::pair<std::string_view, Iteration> kIterationNames[] = {
+    {"newton", Iteration::newton}, {"functional", Iteration::functional}};
+inline constexpr std::pair<std::string_view, JacobianKind> kJacobianKindNames[] = {
+    {"exact", JacobianKind::exact}, {"dq", JacobianKind::dq}};
+inline constexpr std::pair<std::string_view, LinearSolver> kLinearSolverNames[] = {
+    {"dense", LinearSolver::dense}, {"krylov", LinearSolver::krylov}, {"auto", LinearSolver::automatic}};
+inline constexpr std::pair<std::string_view, SensitivityMethod> kSensitivityMethodNames[] = {
+    {"simultaneous", SensitivityMethod::simultaneous},
+    {"staggered", SensitivityMethod::staggered},
+    {"staggered1", SensitivityMethod::staggered1},
+    {"auto", SensitivityMethod::automatic}};
+inline constexpr std::pair<std::string_view, SensitivityRhs> kSensitivityRhsNames[] = {
+    {"exact", SensitivityRhs::exact}, {"dq", SensitivityRhs::dq}};
 
 std::string_view to_string(Method m);
 std::string_view to_string(Iteration it);
