@@ -105,43 +105,39 @@ def rhs_paths():
                "3-D M+f, tilted chain (ns)", "3-D / planar", "Dual Jacobian, planar (µs)"], rows) + source(RHS)
 
 
+def driver_table(module: str, json_name: str, fn: str = "table") -> str:
+    """What the driver `module` prints with its `fn` from RESULTS/json_name, and the source line."""
+    import importlib
+    path = RESULTS / json_name
+    return printed(getattr(importlib.import_module(module), fn), path) + source(path)
+
+
 def jacobian_cost():
-    import jacobian_cost as m
-    return printed(m.table, RESULTS / "jacobian_cost.json") + source(RESULTS / "jacobian_cost.json")
+    return driver_table("jacobian_cost", "jacobian_cost.json")
 
 
 def sensitivity_cost():
-    import sensitivity_cost as m
-    return printed(m.table, RESULTS / "sensitivity_cost.json") + source(RESULTS / "sensitivity_cost.json")
+    return driver_table("sensitivity_cost", "sensitivity_cost.json")
 
 
 def sensitivity_cost_few():
-    import sensitivity_cost as m
-    path = RESULTS / "sensitivity_cost_few.json"
-    return printed(m.table, path) + source(path)
+    return driver_table("sensitivity_cost", "sensitivity_cost_few.json")
 
 
 def sensitivity_cost_jacobian():
-    import sensitivity_cost as m
-    path = RESULTS / "sensitivity_cost_jacobian.json"
-    return printed(m.table, path) + source(path)
+    return driver_table("sensitivity_cost", "sensitivity_cost_jacobian.json")
 
 
 def sensitivity_cost_few_constrained():
-    import sensitivity_cost as m
-    path = RESULTS / "sensitivity_cost_few_constrained.json"
-    return printed(m.table, path) + source(path)
+    return driver_table("sensitivity_cost", "sensitivity_cost_few_constrained.json")
 
 
 def sensitivity_corrector():
-    import sensitivity_corrector as m
-    path = RESULTS / "sensitivity_corrector.json"
-    return printed(m.summary, path) + source(path)
+    return driver_table("sensitivity_corrector", "sensitivity_corrector.json", "summary")
 
 
 def multitangent():
-    import multitangent_table as m
-    return printed(m.table, RESULTS / "multitangent_kernels.json") + source(RESULTS / "multitangent_kernels.json")
+    return driver_table("multitangent_table", "multitangent_kernels.json")
 
 
 def outputs_cost():
