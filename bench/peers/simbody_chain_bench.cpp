@@ -52,14 +52,9 @@ struct Chain {
   }
 };
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
+// `  "name": [...]` of a Simbody vector (peers::print_array).
 void print_array(const char* name, const SimTK::Vector& x, const char* end = ",\n") {
-  std::printf("  \"%s\": [", name);
-  for (int i = 0; i < x.size(); ++i) std::printf("%s%.17g", i ? ", " : "", x[i]);
-  std::printf("]%s", end);
+  peers::print_array(name, x, x.size(), end);
 }
 
 int bench_realize(int n, int repeat, unsigned seed, double batch_seconds, double yy) {
@@ -125,7 +120,7 @@ int integrate(int n, const std::string& which, double accuracy, int repeat, doub
         return 4;
       }
     }
-    seconds.push_back(seconds_since(t0));
+    seconds.push_back(peers::seconds_since(t0));
     const SimTK::State& e = integ->getState();
     q_end = e.getQ();
     u_end = e.getU();

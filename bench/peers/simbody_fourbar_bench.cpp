@@ -90,14 +90,9 @@ struct FourBar {
   }
 };
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
+// `  "name": [...]` of a Simbody vector (peers::print_array).
 void print_array(const char* name, const SimTK::Vector& x, const char* end = ",\n") {
-  std::printf("  \"%s\": [", name);
-  for (int i = 0; i < x.size(); ++i) std::printf("%s%.17g", i ? ", " : "", x[i]);
-  std::printf("]%s", end);
+  peers::print_array(name, x, x.size(), end);
 }
 
 double max_abs(const SimTK::Vector& x) { return x.size() ? SimTK::max(SimTK::abs(x)) : 0.0; }
@@ -168,7 +163,7 @@ int integrate(const std::string& which, double accuracy, int repeat) {
         return 4;
       }
     }
-    seconds.push_back(seconds_since(t0));
+    seconds.push_back(peers::seconds_since(t0));
     end = integ->getState();
     steps = integ->getNumStepsTaken();
     attempts = integ->getNumStepsAttempted();
