@@ -29,17 +29,6 @@ void read_body_points(const YAML::Node& n, const YamlReader& r, const std::strin
   s.point_b = vec3_or_zero(n, r, key, "point_b");
 }
 
-constexpr std::pair<std::string_view, JointType> kJointTypes[] = {
-    {"revolute", JointType::revolute},   {"prismatic", JointType::prismatic}, {"cylindrical", JointType::cylindrical},
-    {"universal", JointType::universal}, {"planar", JointType::planar},       {"spherical", JointType::spherical},
-    {"free", JointType::free},           {"weld", JointType::weld}};
-constexpr std::pair<std::string_view, ForceKind> kForceKinds[] = {
-    {"spring_damper", ForceKind::spring_damper}, {"force", ForceKind::force}, {"torque", ForceKind::torque}};
-constexpr std::pair<std::string_view, ConstraintKind> kConstraintKinds[] = {
-    {"coincident", ConstraintKind::coincident}, {"distance", ConstraintKind::distance},
-    {"coupler", ConstraintKind::coupler},       {"rolling", ConstraintKind::rolling},
-    {"general", ConstraintKind::general}};
-
 // The kind named by `n`, or "unknown joint type 'x' (did you mean 'y'?); types are: ...".
 template <class E>
 E read_kind(const YAML::Node& n, const YamlReader& r, const std::string& key, const char* what,

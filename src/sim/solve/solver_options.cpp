@@ -17,12 +17,6 @@ template <class T>
 bool positive_finite(double x) {
   return std::isfinite(x) && x > 0;
 }
-template <class E, std::size_t N>
-std::string_view name_of(const std::pair<std::string_view, E> (&names)[N], E value) {
-  for (const auto& [name, v] : names)
-    if (v == value) return name;
-  return "?";
-}
 }  // namespace
 
 void SolverOptions::validate(int n) const {

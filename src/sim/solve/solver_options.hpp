@@ -3,8 +3,9 @@
 #pragma once
 #include <optional>
 #include <string_view>
-#include <utility>
 #include <vector>
+
+#include "util/enum_names.hpp"
 
 namespace kanesens::sim {
 
@@ -56,22 +57,22 @@ struct SolverOptions {
   void validate(int n = -1) const;
 };
 
-// Every value of each option with its name in the study file (`solver:`) and in the outputs; the
-// parser reads these tables in this order (its "expected one of ..." lists them), to_string too.
-inline constexpr std::pair<std::string_view, Method> kMethodNames[] = {
+// Every value of each option with its name in the study file (`solver:`) and in the outputs
+// (util/enum_names.hpp): the study parser and to_string read these tables.
+inline constexpr EnumName<Method> kMethodNames[] = {
     {"bdf", Method::bdf}, {"adams", Method::adams}, {"dop853", Method::dop853}};
-inline constexpr std::pair<std::string_view, Iteration> kIterationNames[] = {
+inline constexpr EnumName<Iteration> kIterationNames[] = {
     {"newton", Iteration::newton}, {"functional", Iteration::functional}};
-inline constexpr std::pair<std::string_view, JacobianKind> kJacobianKindNames[] = {
+inline constexpr EnumName<JacobianKind> kJacobianKindNames[] = {
     {"exact", JacobianKind::exact}, {"dq", JacobianKind::dq}};
-inline constexpr std::pair<std::string_view, LinearSolver> kLinearSolverNames[] = {
+inline constexpr EnumName<LinearSolver> kLinearSolverNames[] = {
     {"dense", LinearSolver::dense}, {"krylov", LinearSolver::krylov}, {"auto", LinearSolver::automatic}};
-inline constexpr std::pair<std::string_view, SensitivityMethod> kSensitivityMethodNames[] = {
+inline constexpr EnumName<SensitivityMethod> kSensitivityMethodNames[] = {
     {"simultaneous", SensitivityMethod::simultaneous},
     {"staggered", SensitivityMethod::staggered},
     {"staggered1", SensitivityMethod::staggered1},
     {"auto", SensitivityMethod::automatic}};
-inline constexpr std::pair<std::string_view, SensitivityRhs> kSensitivityRhsNames[] = {
+inline constexpr EnumName<SensitivityRhs> kSensitivityRhsNames[] = {
     {"exact", SensitivityRhs::exact}, {"dq", SensitivityRhs::dq}};
 
 std::string_view to_string(Method m);
