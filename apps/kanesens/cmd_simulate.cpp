@@ -20,6 +20,22 @@ struct SimulateOptions {
   std::vector<std::string> set;
 };
 
+// The integration's counters in the JSON's stats, in this order.
+constexpr std::pair<const char*, long SolverStats::*> kPrintedCounters[] = {
+    {"steps", &SolverStats::steps},
+    {"rhs_evals", &SolverStats::rhs_evals},
+    {"jac_evals", &SolverStats::jac_evals},
+    {"lin_rhs_evals", &SolverStats::lin_rhs_evals},
+    {"jtimes_evals", &SolverStats::jtimes_evals},
+    {"lin_iters", &SolverStats::lin_iters},
+    {"nonlin_iters", &SolverStats::nonlin_iters},
+    {"nonlin_conv_fails", &SolverStats::nonlin_conv_fails},
+    {"error_test_fails", &SolverStats::error_test_fails},
+    {"sens_rhs_evals", &SolverStats::sens_rhs_evals},
+    {"rhs_evals_for_sens", &SolverStats::rhs_evals_for_sens},
+    {"sens_error_test_fails", &SolverStats::sens_error_test_fails},
+    {"repartitions", &SolverStats::repartitions}};
+
 // [T][width] of a time-major buffer; [] when nothing was recorded (an empty buffer).
 void write_rows(JsonWriter& j, const std::vector<double>& flat, std::size_t T, std::size_t width) {
   j.begin_array();
@@ -94,19 +110,7 @@ void print_json(const Model& m, const KaneProblem& problem, const std::vector<do
   j.key("stats").begin_object();
   j.key("linear_solver").value(std::string(to_string(tr.result.linear_solver)));
   j.key("sensitivity_method").value(std::string(to_string(tr.result.sensitivity_method)));
-  j.key("steps").value(static_cast<long long>(s.steps));
-  j.key("rhs_evals").value(static_cast<long long>(s.rhs_evals));
-  j.key("jac_evals").value(static_cast<long long>(s.jac_evals));
-  j.key("lin_rhs_evals").value(static_cast<long long>(s.lin_rhs_evals));
-  j.key("jtimes_evals").value(static_cast<long long>(s.jtimes_evals));
-  j.key("lin_iters").value(static_cast<long long>(s.lin_iters));
-  j.key("nonlin_iters").value(static_cast<long long>(s.nonlin_iters));
-  j.key("nonlin_conv_fails").value(static_cast<long long>(s.nonlin_conv_fails));
-  j.key("error_test_fails").value(static_cast<long long>(s.error_test_fails));
-  j.key("sens_rhs_evals").value(static_cast<long long>(s.sens_rhs_evals));
-  j.key("rhs_evals_for_sens").value(static_cast<long long>(s.rhs_evals_for_sens));
-  j.key("sens_error_test_fails").value(static_cast<long long>(s.sens_error_test_fails));
-  j.key("repartitions").value(static_cast<long long>(s.repartitions));
+  for (const auto& [name, counter] : kPrintedCounters) j.key(name).value(static_cast<long long>(s.*counter));
   j.key("wall_seconds").value(s.wall_seconds);
   j.end_object();
   j.end_object();
