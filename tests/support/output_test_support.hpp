@@ -20,6 +20,7 @@
 #include "sim/simulate.hpp"
 #include "study/setup.hpp"
 #include "layers.hpp"
+#include "test_scenes.hpp"
 
 namespace kanesens::testing {
 
@@ -86,16 +87,7 @@ inline std::string pendulum_study_head(const std::string& method, double end = 3
   std::ostringstream end_text;
   end_text.precision(17);
   end_text << end;
-  return "kanesens: 1\n"
-         "scene:\n"
-         "  name: pendulum\n"
-         "  gravity: [0, -9.81, 0]\n"
-         "  parameters: {m: 1.0, L: 1.2}\n"
-         "  bodies:\n"
-         "    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}\n"
-         "  joints:\n"
-         "    - {name: pivot, type: revolute, parent: ground, child: rod, axis: [0, 0, 1],\n"
-         "       child_point: [0, \"L/2\", 0], q0: 0.9, u0: 0}\n"
+  return test_scenes::rod_pendulum_scene("pendulum", "{m: 1.0, L: 1.2}", ", q0: 0.9, u0: 0") +
          "time: {end: " + end_text.str() + ", outputs: " + std::to_string(outputs) + "}\n"
          "solver: {method: " + method + ", rtol: 1.0e-10, atol: 1.0e-12}\n"
          "sensitivities: [L, pivot.q0]\n";

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "../support/kane_test_support.hpp"
+#include "../support/test_scenes.hpp"
 #include "dynamics/equations.hpp"
 #include "dynamics/frames.hpp"
 #include "../support/layers.hpp"
@@ -147,18 +148,7 @@ TEST(KaneClosedForms, FreeBodyIsNewtonEuler) {
 }
 
 // ---- (c) uniform rod pendulum -----------------------------------------------------------------
-constexpr const char* kPendulum = R"(
-kanesens: 1
-scene:
-  name: rod_pendulum
-  gravity: [0, -9.81, 0]
-  parameters: {m: 1.3, L: 0.9}
-  bodies:
-    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}
-  joints:
-    - {name: pivot, type: revolute, parent: ground, child: rod, axis: [0, 0, 1],
-       parent_point: [0, 0, 0], child_point: [0, "L/2", 0]}
-)";
+const std::string kPendulum = kanesens::test_scenes::rod_pendulum_scene("rod_pendulum", "{m: 1.3, L: 0.9}");
 
 TEST(KaneClosedForms, UniformRodPendulum) {
   const ks::Model m = model_from_text(kPendulum);
