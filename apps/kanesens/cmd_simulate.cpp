@@ -22,19 +22,12 @@ struct SimulateOptions {
 
 // The integration's counters in the JSON's stats, in this order.
 constexpr std::pair<const char*, long SolverStats::*> kPrintedCounters[] = {
-    {"steps", &SolverStats::steps},
-    {"rhs_evals", &SolverStats::rhs_evals},
-    {"jac_evals", &SolverStats::jac_evals},
-    {"lin_rhs_evals", &SolverStats::lin_rhs_evals},
-    {"jtimes_evals", &SolverStats::jtimes_evals},
-    {"lin_iters", &SolverStats::lin_iters},
-    {"nonlin_iters", &SolverStats::nonlin_iters},
-    {"nonlin_conv_fails", &SolverStats::nonlin_conv_fails},
-    {"error_test_fails", &SolverStats::error_test_fails},
-    {"sens_rhs_evals", &SolverStats::sens_rhs_evals},
-    {"rhs_evals_for_sens", &SolverStats::rhs_evals_for_sens},
-    {"sens_error_test_fails", &SolverStats::sens_error_test_fails},
-    {"repartitions", &SolverStats::repartitions}};
+    {"steps", &SolverStats::steps}, {"rhs_evals", &SolverStats::rhs_evals}, {"jac_evals", &SolverStats::jac_evals},
+    {"lin_rhs_evals", &SolverStats::lin_rhs_evals}, {"jtimes_evals", &SolverStats::jtimes_evals},
+    {"lin_iters", &SolverStats::lin_iters}, {"nonlin_iters", &SolverStats::nonlin_iters},
+    {"nonlin_conv_fails", &SolverStats::nonlin_conv_fails}, {"error_test_fails", &SolverStats::error_test_fails},
+    {"sens_rhs_evals", &SolverStats::sens_rhs_evals}, {"rhs_evals_for_sens", &SolverStats::rhs_evals_for_sens},
+    {"sens_error_test_fails", &SolverStats::sens_error_test_fails}, {"repartitions", &SolverStats::repartitions}};
 
 // [T][width] of a time-major buffer; [] when nothing was recorded (an empty buffer).
 void write_rows(JsonWriter& j, const std::vector<double>& flat, std::size_t T, std::size_t width) {
