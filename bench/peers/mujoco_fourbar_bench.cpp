@@ -37,6 +37,7 @@
 
 #include "batch_timing.hpp"
 #include "mujoco_peer.hpp"
+#include "four_bar_options.hpp"
 #include "four_bar_state.hpp"
 
 namespace {
@@ -153,23 +154,15 @@ int integrate(mjModel* m, mjData* d, const std::string& which, int repeat) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int repeat = 31;
-  double batch_seconds = 2e-3, dt = 1e-3;
-  std::string which;
-  for (int i = 1; i < argc; i += 2) {
-    if (i + 1 >= argc) { std::fprintf(stderr, "option %s needs a value\n", argv[i]); return 2; }
-    if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--batch-seconds")) batch_seconds = std::atof(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--integrate")) which = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--dt")) dt = std::atof(argv[i + 1]);
-    else {
-      std::fprintf(stderr,
-                   "usage: %s [--repeat R] [--batch-seconds B] [--dt DT]\n"
-                   "       %s --integrate rk4|euler|implicit --dt DT [--repeat R]\n",
-                   argv[0], argv[0]);
-      return 2;
-    }
-  }
+  four_bar::Options o;
+  if (!four_bar::parse_options(argc, argv, "--dt",
+                               "usage: %s [--repeat R] [--batch-seconds B] [--dt DT]\n"
+                               "       %s --integrate rk4|euler|implicit --dt DT [--repeat R]\n",
+                               o))
+    return 2;
+  const int repeat = o.repeat;
+  const double batch_seconds = o.batch_seconds, dt = o.step;
+  const std::string& which = o.which;
   if (repeat < 1 || !(dt > 0)) { std::fprintf(stderr, "--repeat must be >= 1 and --dt > 0\n"); return 2; }
   const char* integrator = which.empty() || which == "rk4" ? "RK4"
                            : which == "euler"               ? "Euler"

@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "batch_timing.hpp"
+#include "four_bar_options.hpp"
 #include "four_bar_state.hpp"
 #include "simbody_integrators.hpp"
 
@@ -189,23 +190,15 @@ int integrate(const std::string& which, double accuracy, int repeat) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int repeat = 31;
-  double batch_seconds = 2e-3, accuracy = 1e-3;
-  std::string which;
-  for (int i = 1; i < argc; i += 2) {
-    if (i + 1 >= argc) { std::fprintf(stderr, "option %s needs a value\n", argv[i]); return 2; }
-    if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--batch-seconds")) batch_seconds = std::atof(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--integrate")) which = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--accuracy")) accuracy = std::atof(argv[i + 1]);
-    else {
-      std::fprintf(stderr,
-                   "usage: %s [--repeat R] [--batch-seconds B]\n"
-                   "       %s --integrate NAME --accuracy A [--repeat R]\n",
-                   argv[0], argv[0]);
-      return 2;
-    }
-  }
+  four_bar::Options o;
+  if (!four_bar::parse_options(argc, argv, "--accuracy",
+                               "usage: %s [--repeat R] [--batch-seconds B]\n"
+                               "       %s --integrate NAME --accuracy A [--repeat R]\n",
+                               o))
+    return 2;
+  const int repeat = o.repeat;
+  const double batch_seconds = o.batch_seconds, accuracy = o.step;
+  const std::string& which = o.which;
   if (repeat < 1) { std::fprintf(stderr, "--repeat must be >= 1\n"); return 2; }
   try {
     return which.empty() ? bench_realize(repeat, batch_seconds) : integrate(which, accuracy, repeat);
