@@ -151,28 +151,26 @@ int integrate(mjModel* m, mjData* d, const std::string& which, int repeat) {
   return 0;
 }
 
+// A printf format: the program's name twice.
+constexpr const char* kUsage =
+    "usage: %s [--repeat R] [--batch-seconds B] [--dt DT]\n"
+    "       %s --integrate rk4|euler|implicit --dt DT [--repeat R]\n";
+
 }  // namespace
 
 int main(int argc, char** argv) {
   four_bar::Options o;
-  if (!four_bar::parse_options(argc, argv, "--dt",
-                               "usage: %s [--repeat R] [--batch-seconds B] [--dt DT]\n"
-                               "       %s --integrate rk4|euler|implicit --dt DT [--repeat R]\n",
-                               o))
-    return 2;
-  const int repeat = o.repeat;
-  const double batch_seconds = o.batch_seconds, dt = o.step;
-  const std::string& which = o.which;
-  if (repeat < 1 || !(dt > 0)) { std::fprintf(stderr, "--repeat must be >= 1 and --dt > 0\n"); return 2; }
-  const char* integrator = which.empty() || which == "rk4" ? "RK4"
-                           : which == "euler"               ? "Euler"
-                           : which == "implicit"            ? "implicit"
-                                                            : nullptr;
-  if (!integrator) { std::fprintf(stderr, "unknown integrator %s (rk4, euler, implicit)\n", which.c_str()); return 2; }
-  mjModel* m = mujoco_peer::load_mjcf(fourbar_mjcf(integrator, dt), "four_bar.xml");
+  if (!four_bar::parse_options(argc, argv, "--dt", kUsage, o)) return 2;
+  if (o.repeat < 1 || !(o.step > 0)) { std::fprintf(stderr, "--repeat must be >= 1 and --dt > 0\n"); return 2; }
+  const char* integrator = o.which.empty() || o.which == "rk4" ? "RK4"
+                           : o.which == "euler"                 ? "Euler"
+                           : o.which == "implicit"              ? "implicit"
+                                                                : nullptr;
+  if (!integrator) { std::fprintf(stderr, "unknown integrator %s (rk4, euler, implicit)\n", o.which.c_str()); return 2; }
+  mjModel* m = mujoco_peer::load_mjcf(fourbar_mjcf(integrator, o.step), "four_bar.xml");
   if (!m) return 1;
   mjData* d = mj_makeData(m);
-  const int status = which.empty() ? bench_forward(m, d, repeat, batch_seconds) : integrate(m, d, which, repeat);
+  const int status = o.which.empty() ? bench_forward(m, d, o.repeat, o.batch_seconds) : integrate(m, d, o.which, o.repeat);
   mj_deleteData(d);
   mj_deleteModel(m);
   return status;

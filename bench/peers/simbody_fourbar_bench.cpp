@@ -187,21 +187,19 @@ int integrate(const std::string& which, double accuracy, int repeat) {
   return 0;
 }
 
+// A printf format: the program's name twice.
+constexpr const char* kUsage =
+    "usage: %s [--repeat R] [--batch-seconds B]\n"
+    "       %s --integrate NAME --accuracy A [--repeat R]\n";
+
 }  // namespace
 
 int main(int argc, char** argv) {
   four_bar::Options o;
-  if (!four_bar::parse_options(argc, argv, "--accuracy",
-                               "usage: %s [--repeat R] [--batch-seconds B]\n"
-                               "       %s --integrate NAME --accuracy A [--repeat R]\n",
-                               o))
-    return 2;
-  const int repeat = o.repeat;
-  const double batch_seconds = o.batch_seconds, accuracy = o.step;
-  const std::string& which = o.which;
-  if (repeat < 1) { std::fprintf(stderr, "--repeat must be >= 1\n"); return 2; }
+  if (!four_bar::parse_options(argc, argv, "--accuracy", kUsage, o)) return 2;
+  if (o.repeat < 1) { std::fprintf(stderr, "--repeat must be >= 1\n"); return 2; }
   try {
-    return which.empty() ? bench_realize(repeat, batch_seconds) : integrate(which, accuracy, repeat);
+    return o.which.empty() ? bench_realize(o.repeat, o.batch_seconds) : integrate(o.which, o.step, o.repeat);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "simbody_fourbar_bench: %s\n", e.what());
     return 1;
