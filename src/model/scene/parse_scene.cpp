@@ -140,12 +140,20 @@ JointSpec parse_joint(const YAML::Node& n, const YamlReader& r, const std::strin
   return j;
 }
 
-ForceSpec parse_force(const YAML::Node& n, const YamlReader& r, const std::string& key) {
+// A force or a constraint: a map, its kind named by `type`; where it was written, for messages.
+template <class Spec, class E, std::size_t N>
+Spec read_typed_map(const YAML::Node& n, const YamlReader& r, const std::string& key, const char* what,
+                    const EnumName<E> (&kinds)[N]) {
   r.require_map(n, key);
-  ForceSpec f;
-  f.where = r.location(n);
-  f.key = key;
-  f.kind = read_kind<ForceKind>(r.required(n, "type", key), r, key + ".type", "force type", kForceKinds);
+  Spec s;
+  s.where = r.location(n);
+  s.key = key;
+  s.kind = read_kind<E>(r.required(n, "type", key), r, key + ".type", what, kinds);
+  return s;
+}
+
+ForceSpec parse_force(const YAML::Node& n, const YamlReader& r, const std::string& key) {
+  ForceSpec f = read_typed_map<ForceSpec>(n, r, key, "force type", kForceKinds);
   if (f.kind == ForceKind::spring_damper) {
     r.check_keys(n, key, {"type", "name", "body_a", "point_a", "body_b", "point_b", "k", "c", "rest"});
     read_body_points(n, r, key, f);
@@ -170,11 +178,7 @@ ForceSpec parse_force(const YAML::Node& n, const YamlReader& r, const std::strin
 }
 
 ConstraintSpec parse_constraint(const YAML::Node& n, const YamlReader& r, const std::string& key) {
-  r.require_map(n, key);
-  ConstraintSpec c;
-  c.where = r.location(n);
-  c.key = key;
-  c.kind = read_kind<ConstraintKind>(r.required(n, "type", key), r, key + ".type", "constraint type", kConstraintKinds);
+  ConstraintSpec c = read_typed_map<ConstraintSpec>(n, r, key, "constraint type", kConstraintKinds);
   c.name = n["name"] ? r.read_string(n["name"], key + ".name") : "";
   if (c.kind == ConstraintKind::coincident || c.kind == ConstraintKind::distance) {
     if (c.kind == ConstraintKind::coincident) r.check_keys(n, key, {"type", "name", "body_a", "point_a", "body_b", "point_b", "components"});
