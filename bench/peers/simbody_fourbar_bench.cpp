@@ -141,10 +141,7 @@ int integrate(const std::string& which, double accuracy, int repeat) {
   for (int r = 0; r < repeat; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<SimTK::Integrator> integ = simbody_peer::make_integrator(fb.system, which);
-    if (!integ) {
-      std::fprintf(stderr, "unknown integrator %s (%s)\n", which.c_str(), simbody_peer::integrator_names);
-      return 2;
-    }
+    if (!integ) return 2;
     integ->setAccuracy(accuracy);
     // Simbody projects q and u back onto the constraint manifold after every step whenever the
     // residual exceeds this tolerance; tying it to the accuracy keeps the drift at the level of
@@ -154,16 +151,7 @@ int integrate(const std::string& which, double accuracy, int repeat) {
     integ->setInternalStepLimit(100000000);
     integ->setFinalTime(four_bar::t_end);
     integ->initialize(fb.initial_state());
-    // The first call only starts the continuous interval; step until the final time.
-    while (integ->getTime() < four_bar::t_end) {
-      const auto status = integ->stepTo(four_bar::t_end, four_bar::t_end);
-      if (status == SimTK::Integrator::EndOfSimulation && integ->getTime() < four_bar::t_end) {
-        std::fprintf(stderr, "simbody_fourbar_bench: %s at t = %.17g\n",
-                     SimTK::Integrator::getTerminationReasonString(integ->getTerminationReason()).c_str(),
-                     integ->getTime());
-        return 4;
-      }
-    }
+    if (!simbody_peer::step_to_end(*integ, four_bar::t_end, "simbody_fourbar_bench")) return 4;
     seconds.push_back(peers::seconds_since(t0));
     end = integ->getState();
     steps = integ->getNumStepsTaken();
