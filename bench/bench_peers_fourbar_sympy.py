@@ -74,7 +74,7 @@ import four_bar_kane as fb  # noqa: E402
 import four_bar_quadrature  # noqa: E402
 import fourbar_kanesens as fk  # noqa: E402
 from bench_peers_sympy import now  # noqa: E402  (the chain bench's conventions)
-from common import max_err, time_at  # noqa: E402
+from common import interleaved, max_err, repeated_runs, time_at  # noqa: E402
 
 SCIPY_METHODS = ["RK45", "DOP853", "Radau", "LSODA"]
 # (method, formulation, stabilization), see fourbar_kanesens.LABELS.
@@ -184,16 +184,9 @@ def main():
         atol = rtol * 1e-2
         ks = [("kanesens", v) for v in variants]
         ss = [("scipy", m) for m in SCIPY_METHODS if m in active]
-        order = []                                   # kanesens BDF, RK45, kanesens Adams, DOP853, ...
-        for i in range(max(len(ks), len(ss))):
-            order += ks[i:i + 1] + ss[i:i + 1]
-        res = {t: [] for t in order}
-        for rep in range(a.reps):
-            for t in order:
-                if rep > 0 and res[t][0]["time_s"] > 2.0:
-                    continue
-                res[t].append(kanesens_run(a.kanesens, study, t[1], rtol, atol) if t[0] == "kanesens"
-                              else scipy_run(fun, constraints, p, y0, t[1], rtol, atol))
+        order = interleaved(ks, ss)                  # kanesens BDF, RK45, kanesens Adams, DOP853, ...
+        res = repeated_runs(order, a.reps, lambda t: kanesens_run(a.kanesens, study, t[1], rtol, atol)
+                            if t[0] == "kanesens" else scipy_run(fun, constraints, p, y0, t[1], rtol, atol))
         for t in order:
             rs = res[t]
             name = fk.name(t[1]) if t[0] == "kanesens" else t[1]

@@ -53,7 +53,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests" / "sympy"))
 sys.path.insert(0, str(ROOT / "scripts"))
 import kane_reference as kr  # noqa: E402
-from common import max_err, time_at  # noqa: E402
+from common import interleaved, max_err, repeated_runs, time_at  # noqa: E402
 from gen_chain import chain_yaml  # noqa: E402
 from sympy.physics.mechanics import msubs  # noqa: E402
 
@@ -172,18 +172,9 @@ def main():
             atol = rtol * 1e-2
             tools = [("kanesens", m) for m in KANESENS_METHODS] + [("scipy", m) for m in SCIPY_METHODS if m in active]
             # Alternate: kanesens bdf, RK45, kanesens adams, DOP853, ... in every repetition.
-            order = []
-            ks, ss = [t for t in tools if t[0] == "kanesens"], [t for t in tools if t[0] == "scipy"]
-            for i in range(max(len(ks), len(ss))):
-                order += ([ks[i]] if i < len(ks) else []) + ([ss[i]] if i < len(ss) else [])
-            res = {t: [] for t in order}
-            for rep in range(a.reps):
-                for t in order:
-                    if rep > 0 and res[t][0]["time_s"] > 2.0:
-                        continue
-                    r = (kanesens_run(a.kanesens, study, t[1], rtol, atol) if t[0] == "kanesens"
-                         else scipy_run(fun, nu, y0, t[1], rtol, atol))
-                    res[t].append(r)
+            order = interleaved([t for t in tools if t[0] == "kanesens"], [t for t in tools if t[0] == "scipy"])
+            res = repeated_runs(order, a.reps, lambda t: kanesens_run(a.kanesens, study, t[1], rtol, atol)
+                                if t[0] == "kanesens" else scipy_run(fun, nu, y0, t[1], rtol, atol))
             for t in order:
                 rs = res[t]
                 row = {"n": n, "tool": t[0], "method": t[1], "rtol": rtol, "atol": atol,

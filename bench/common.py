@@ -82,6 +82,16 @@ def load_json(path: Path | str):
     return json.loads(Path(path).read_text())
 
 
+def table_or_usage(argv, table, usage: str) -> None:
+    """A driver's `--table OUT.json`: print the Markdown table of a committed measurement and
+    exit; fewer than two arguments (OUT.json and what to measure): print the usage and exit."""
+    if len(argv) == 2 and argv[0] == "--table":
+        table(argv[1])
+        sys.exit(0)
+    if len(argv) < 2:
+        sys.exit(usage)
+
+
 def log(who: str, message: str) -> None:
     print(f"{who}: {message}", file=sys.stderr, flush=True)
 
@@ -146,6 +156,26 @@ def fmt_list(xs) -> str:
 
 def max_err(y, ref) -> float:
     return float(max(abs(a - b) for a, b in zip(y, ref)))
+
+
+def interleaved(a, b) -> list:
+    """a[0], b[0], a[1], b[1], ...; the longer list's tail last."""
+    out = []
+    for i in range(max(len(a), len(b))):
+        out += a[i:i + 1] + b[i:i + 1]
+    return out
+
+
+def repeated_runs(configs, reps: int, run, slow_s: float = 2.0) -> dict:
+    """{config: [run(config), ...]}: `reps` rounds through all configurations in turn, so that the
+    machine's load hits every one alike; one whose first run took over slow_s seconds runs once."""
+    res = {c: [] for c in configs}
+    for rep in range(reps):
+        for c in configs:
+            if rep > 0 and res[c][0]["time_s"] > slow_s:
+                continue
+            res[c].append(run(c))
+    return res
 
 
 def time_at(points, target):

@@ -18,6 +18,8 @@ import statistics
 import subprocess
 import sys
 
+from common import load_json, table_or_usage
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 SCENES = ["nlink_chain_4", "arm_3d", "spinning_top", "four_bar", "rolling_disc", "andrews", "nlink_chain_16"]
 
@@ -56,8 +58,7 @@ def measure(out, exes, rounds, command):
 
 
 def table(path):
-    with open(path) as f:
-        r = json.load(f)
+    r = load_json(path)
     print(f"Median over {r['rounds']} interleaved rounds of (Jacobian time / RHS time), each from `kanesens bench rhs`.\n")
     print("| scene | states | path | build | RHS (ns) | Jacobian, one Dual pass per column | Jacobian, multi-tangent passes of the whole RHS | Jacobian as the solvers get it | method |")
     print("|---|---:|---|---|---:|---:|---:|---:|---|")
@@ -75,11 +76,7 @@ def table(path):
 
 if __name__ == "__main__":
     argv = sys.argv[1:]
-    if len(argv) == 2 and argv[0] == "--table":
-        table(argv[1])
-        sys.exit(0)
-    if len(argv) < 2:
-        sys.exit(__doc__)
+    table_or_usage(argv, table, __doc__)
     rounds, exes = 5, []
     i = 1
     while i < len(argv):

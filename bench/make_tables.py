@@ -105,32 +105,31 @@ def rhs_paths():
                "3-D M+f, tilted chain (ns)", "3-D / planar", "Dual Jacobian, planar (µs)"], rows) + source(RHS)
 
 
+def driver_table(module: str, json_name: str, fn: str = "table") -> str:
+    """What the driver `module` prints with its `fn` from RESULTS/json_name, and the source line."""
+    import importlib
+    path = RESULTS / json_name
+    return printed(getattr(importlib.import_module(module), fn), path) + source(path)
+
+
 def jacobian_cost():
-    import jacobian_cost as m
-    return printed(m.table, RESULTS / "jacobian_cost.json") + source(RESULTS / "jacobian_cost.json")
+    return driver_table("jacobian_cost", "jacobian_cost.json")
 
 
 def sensitivity_cost():
-    import sensitivity_cost as m
-    return printed(m.table, RESULTS / "sensitivity_cost.json") + source(RESULTS / "sensitivity_cost.json")
+    return driver_table("sensitivity_cost", "sensitivity_cost.json")
 
 
 def sensitivity_cost_few():
-    import sensitivity_cost as m
-    path = RESULTS / "sensitivity_cost_few.json"
-    return printed(m.table, path) + source(path)
+    return driver_table("sensitivity_cost", "sensitivity_cost_few.json")
 
 
 def sensitivity_cost_jacobian():
-    import sensitivity_cost as m
-    path = RESULTS / "sensitivity_cost_jacobian.json"
-    return printed(m.table, path) + source(path)
+    return driver_table("sensitivity_cost", "sensitivity_cost_jacobian.json")
 
 
 def sensitivity_cost_few_constrained():
-    import sensitivity_cost as m
-    path = RESULTS / "sensitivity_cost_few_constrained.json"
-    return printed(m.table, path) + source(path)
+    return driver_table("sensitivity_cost", "sensitivity_cost_few_constrained.json")
 
 
 def jacobian_cost_arch():
@@ -146,14 +145,11 @@ def sensitivity_cost_arch():
 
 
 def sensitivity_corrector():
-    import sensitivity_corrector as m
-    path = RESULTS / "sensitivity_corrector.json"
-    return printed(m.summary, path) + source(path)
+    return driver_table("sensitivity_corrector", "sensitivity_corrector.json", "summary")
 
 
 def multitangent():
-    import multitangent_table as m
-    return printed(m.table, RESULTS / "multitangent_kernels.json") + source(RESULTS / "multitangent_kernels.json")
+    return driver_table("multitangent_table", "multitangent_kernels.json")
 
 
 def outputs_cost():
@@ -569,6 +565,11 @@ def _rk4(name, extra=None) -> str:
     return md(head, body)
 
 
+def _sweep_tables(name, title, cell, rk4_extra=None) -> str:
+    """`title`, the adaptive methods' _pivot of `cell`, the RK4 table and the source line."""
+    return title + ":\n\n" + _pivot(name, cell) + "\n" + _rk4(name, rk4_extra) + _wp_source(name)
+
+
 def _steps_err(r) -> str:
     return f"{r['steps']:,} / {_e(r['final_rel_error'])}"
 
@@ -643,30 +644,26 @@ def stab_swing_modes():
 
 def stab_stiff_swing():
     """Stiff swinging chain: steps / final error per method and tolerance; RK4 by step size."""
-    n = "chain4_stiff_swing"
-    return ("Steps / final relative error:\n\n" + _pivot(n, _steps_err) + "\n" + _rk4(n) + _wp_source(n))
+    return _sweep_tables("chain4_stiff_swing", "Steps / final relative error", _steps_err)
 
 
 def stab_stiff_excited():
     """Chain with excited stiff modes: steps / final error; RK4 by step size."""
-    n = "chain4_stiff"
-    return ("Steps / final relative error:\n\n" + _pivot(n, _steps_err) + "\n" + _rk4(n) + _wp_source(n))
+    return _sweep_tables("chain4_stiff", "Steps / final relative error", _steps_err)
 
 
 def stab_energy():
     """Long double pendulum: max |E(t) - E(0)| (and steps) per method and tolerance; RK4 by step size."""
-    n = "double_pendulum_long"
-    return ("max \\|E(t) − E(0)\\| (J) / E(end) − E(0) / steps:\n\n"
-            + _pivot(n, lambda r: f"{_e(r['energy_drift'])} / {r['energy_drift_final']:+.1e} / {r['steps']:,}")
-            + "\n" + _rk4(n, ("max \\|E(t) − E(0)\\| (J)", lambda r: _e(r["energy_drift"]))) + _wp_source(n))
+    return _sweep_tables("double_pendulum_long", "max \\|E(t) − E(0)\\| (J) / E(end) − E(0) / steps",
+                         lambda r: f"{_e(r['energy_drift'])} / {r['energy_drift_final']:+.1e} / {r['steps']:,}",
+                         ("max \\|E(t) − E(0)\\| (J)", lambda r: _e(r["energy_drift"])))
 
 
 def stab_chaos():
     """Chaotic double pendulum over 10 s: final relative error of the state (and of the sensitivities)."""
-    n = "double_pendulum_chaos"
     cell = lambda r: _e(r["final_rel_error"]) + (f" (S: {_e(r['sens_final_rel_error'])})" if r["with_sens"] else "")
-    return ("Final relative error at 10 s (sensitivity rows: state (sensitivities)):\n\n" + _pivot(n, cell)
-            + "\n" + _rk4(n) + _wp_source(n))
+    return _sweep_tables("double_pendulum_chaos", "Final relative error at 10 s (sensitivity rows: state (sensitivities))",
+                         cell)
 
 
 def stab_lyapunov():
@@ -693,21 +690,19 @@ def stab_lyapunov():
 
 def stab_quaternion():
     """Spinning top: max | |q| - 1 | per method and tolerance (and as a multiple of rtol); RK4 by step size."""
-    n = "spinning_top"
-    return ("max \\| \\|q\\| − 1 \\| over 10 s (÷ rtol):\n\n"
-            + _pivot(n, lambda r: f"{_e(r['quaternion_norm_drift'])} ({r['quaternion_norm_drift'] / r['rtol']:.2g})")
-            + "\n" + _rk4(n, ("max \\| \\|q\\| − 1 \\|", lambda r: _e(r["quaternion_norm_drift"]))) + _wp_source(n))
+    return _sweep_tables("spinning_top", "max \\| \\|q\\| − 1 \\| over 10 s (÷ rtol)",
+                         lambda r: f"{_e(r['quaternion_norm_drift'])} ({r['quaternion_norm_drift'] / r['rtol']:.2g})",
+                         ("max \\| \\|q\\| − 1 \\|", lambda r: _e(r["quaternion_norm_drift"])))
 
 
 def stab_constrained():
     """Constrained pendulum: max |g| / final error per method and tolerance (sensitivity rows: error of S)."""
-    n = "constrained_pendulum"
     def cell(r):
         s = f"{_e(r['constraint_position_residual'])} / {_e(r['final_rel_error'])}"
         return s + (f" / S {_e(r['sens_final_rel_error'])} ({r['steps']:,} steps)" if r["with_sens"] else "")
-    return ("max \\|g\\| (m) / final relative error (sensitivity rows: / error of the sensitivities):\n\n"
-            + _pivot(n, cell) + "\n"
-            + _rk4(n, ("max \\|g\\| (m)", lambda r: _e(r["constraint_position_residual"]))) + _wp_source(n))
+    return _sweep_tables("constrained_pendulum",
+                         "max \\|g\\| (m) / final relative error (sensitivity rows: / error of the sensitivities)", cell,
+                         ("max \\|g\\| (m)", lambda r: _e(r["constraint_position_residual"])))
 
 
 # --- docs/explanation/constraints.md ----------------------------------------------------------

@@ -20,6 +20,8 @@ import subprocess
 import sys
 import tempfile
 
+from common import load_json, table_or_usage
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 
 # name: (study text, sensitivities, methods)
@@ -99,8 +101,7 @@ def per_added(row, pick=min):
 
 
 def table(path):
-    with open(path) as f:
-        r = json.load(f)
+    r = load_json(path)
     print(f"Minimum (median) of {r['runs']} interleaved runs; per added sensitivity = "
           "(t_sens − t_plain) / (Ns · t_plain).\n")
     print("| scene | method | build | Ns | plain solve (ms) | with Ns sensitivities (ms) | per added sensitivity | steps plain / sens |")
@@ -114,11 +115,7 @@ def table(path):
 
 if __name__ == "__main__":
     argv = sys.argv[1:]
-    if len(argv) == 2 and argv[0] == "--table":
-        table(argv[1])
-        sys.exit(0)
-    if len(argv) < 2:
-        sys.exit(__doc__)
+    table_or_usage(argv, table, __doc__)
     runs, scenes, extra, methods, counts = 7, list(SCENES), [], None, None
     out, rest = argv[0], []
     i = 1

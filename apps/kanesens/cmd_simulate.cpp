@@ -20,6 +20,34 @@ struct SimulateOptions {
   std::vector<std::string> set;
 };
 
+// The integration's counters in the JSON's stats, in this order.
+constexpr std::pair<const char*, long SolverStats::*> kPrintedCounters[] = {
+    {"steps", &SolverStats::steps}, {"rhs_evals", &SolverStats::rhs_evals}, {"jac_evals", &SolverStats::jac_evals},
+    {"lin_rhs_evals", &SolverStats::lin_rhs_evals}, {"jtimes_evals", &SolverStats::jtimes_evals},
+    {"lin_iters", &SolverStats::lin_iters}, {"nonlin_iters", &SolverStats::nonlin_iters},
+    {"nonlin_conv_fails", &SolverStats::nonlin_conv_fails}, {"error_test_fails", &SolverStats::error_test_fails},
+    {"sens_rhs_evals", &SolverStats::sens_rhs_evals}, {"rhs_evals_for_sens", &SolverStats::rhs_evals_for_sens},
+    {"sens_error_test_fails", &SolverStats::sens_error_test_fails}, {"repartitions", &SolverStats::repartitions}};
+
+// [T][width] of a time-major buffer; [] when nothing was recorded (an empty buffer).
+void write_rows(JsonWriter& j, const std::vector<double>& flat, std::size_t T, std::size_t width) {
+  j.begin_array();
+  for (std::size_t k = 0; k < T && !flat.empty(); ++k) j.array(&flat[k * width], width);
+  j.end_array();
+}
+
+// [T][rows][width] of a time-major buffer; [] when nothing was recorded.
+void write_row_blocks(JsonWriter& j, const std::vector<double>& flat, std::size_t T, std::size_t rows,
+                      std::size_t width) {
+  j.begin_array();
+  for (std::size_t k = 0; k < T && !flat.empty(); ++k) {
+    j.begin_array();
+    for (std::size_t r = 0; r < rows; ++r) j.array(&flat[(k * rows + r) * width], width);
+    j.end_array();
+  }
+  j.end_array();
+}
+
 void print_json(const Model& m, const KaneProblem& problem, const std::vector<double>& times, const Trajectory& tr,
                 const OutputPlan* plan) {
   const std::size_t n = static_cast<std::size_t>(m.nstate()), ns = problem.sensitivities().size();
@@ -30,31 +58,19 @@ void print_json(const Model& m, const KaneProblem& problem, const std::vector<do
   j.key("message").value(tr.result.message);
   j.key("time").array(times);
   j.key("state_names").array(m.state_names);
-  j.key("states").begin_array();
-  for (std::size_t k = 0; k < times.size() && !tr.states.empty(); ++k) j.array(&tr.states[k * n], n);
-  j.end_array();
+  j.key("states");
+  write_rows(j, tr.states, times.size(), n);
   j.key("sensitivity_names").begin_array();
   for (const auto& s : problem.sensitivities()) j.value(s.name);
   j.end_array();
-  j.key("sensitivities").begin_array();
-  for (std::size_t k = 0; k < times.size() && !tr.sensitivities.empty(); ++k) {
-    j.begin_array();
-    for (std::size_t r = 0; r < n; ++r) j.array(&tr.sensitivities[(k * n + r) * ns], ns);
-    j.end_array();
-  }
-  j.end_array();
+  j.key("sensitivities");
+  write_row_blocks(j, tr.sensitivities, times.size(), n, ns);
   const std::size_t nc = static_cast<std::size_t>(m.nconstraint_rows);
   j.key("constraint_names").array(m.constraint_row_names);
-  j.key("multipliers").begin_array();
-  for (std::size_t k = 0; k < times.size() && !tr.multipliers.empty(); ++k) j.array(&tr.multipliers[k * nc], nc);
-  j.end_array();
-  j.key("multiplier_sensitivities").begin_array();
-  for (std::size_t k = 0; k < times.size() && !tr.multiplier_sensitivities.empty(); ++k) {
-    j.begin_array();
-    for (std::size_t r = 0; r < nc; ++r) j.array(&tr.multiplier_sensitivities[(k * nc + r) * ns], ns);
-    j.end_array();
-  }
-  j.end_array();
+  j.key("multipliers");
+  write_rows(j, tr.multipliers, times.size(), nc);
+  j.key("multiplier_sensitivities");
+  write_row_blocks(j, tr.multiplier_sensitivities, times.size(), nc, ns);
   j.key("constraint_residuals").begin_object();
   j.key("position").array(tr.position_residual);
   j.key("velocity").array(tr.velocity_residual);
@@ -87,19 +103,7 @@ void print_json(const Model& m, const KaneProblem& problem, const std::vector<do
   j.key("stats").begin_object();
   j.key("linear_solver").value(std::string(to_string(tr.result.linear_solver)));
   j.key("sensitivity_method").value(std::string(to_string(tr.result.sensitivity_method)));
-  j.key("steps").value(static_cast<long long>(s.steps));
-  j.key("rhs_evals").value(static_cast<long long>(s.rhs_evals));
-  j.key("jac_evals").value(static_cast<long long>(s.jac_evals));
-  j.key("lin_rhs_evals").value(static_cast<long long>(s.lin_rhs_evals));
-  j.key("jtimes_evals").value(static_cast<long long>(s.jtimes_evals));
-  j.key("lin_iters").value(static_cast<long long>(s.lin_iters));
-  j.key("nonlin_iters").value(static_cast<long long>(s.nonlin_iters));
-  j.key("nonlin_conv_fails").value(static_cast<long long>(s.nonlin_conv_fails));
-  j.key("error_test_fails").value(static_cast<long long>(s.error_test_fails));
-  j.key("sens_rhs_evals").value(static_cast<long long>(s.sens_rhs_evals));
-  j.key("rhs_evals_for_sens").value(static_cast<long long>(s.rhs_evals_for_sens));
-  j.key("sens_error_test_fails").value(static_cast<long long>(s.sens_error_test_fails));
-  j.key("repartitions").value(static_cast<long long>(s.repartitions));
+  for (const auto& [name, counter] : kPrintedCounters) j.key(name).value(static_cast<long long>(s.*counter));
   j.key("wall_seconds").value(s.wall_seconds);
   j.end_object();
   j.end_object();

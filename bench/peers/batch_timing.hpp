@@ -2,7 +2,8 @@
 // (apps/kanesens/cmd_bench.cpp), so the two sides of a comparison are measured alike: a batch of
 // calls long enough (≥ batch_seconds) for the clock to be accurate, calibrated first, then the
 // median and minimum time per call over `repeat` batches (the median resists a noisy machine).
-// Header-only and C++17 (the Simbody programs cannot be compiled as C++20).
+// Also how they print an array of numbers in their JSON. Header-only and C++17 (the Simbody
+// programs cannot be compiled as C++20).
 #pragma once
 #include <algorithm>
 #include <chrono>
@@ -43,6 +44,18 @@ inline void print_timing(const char* key, const BatchTiming& t) {
   std::printf("  \"%s\": {\"median_ns\": %.6g, \"min_ns\": %.6g, \"evaluations_per_second\": %.6g, "
               "\"batch\": %lld, \"batches\": %d},\n",
               key, t.median_ns, t.min_ns, 1e9 / t.median_ns, t.batch, t.batches);
+}
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// `  "name": [x[0], ..., x[n-1]]` and `end`, every number exact (%.17g); x: a pointer or a vector.
+template <class Vec>
+void print_array(const char* name, const Vec& x, int n, const char* end = ",\n") {
+  std::printf("  \"%s\": [", name);
+  for (int i = 0; i < n; ++i) std::printf("%s%.17g", i ? ", " : "", static_cast<double>(x[i]));
+  std::printf("]%s", end);
 }
 
 }  // namespace peers

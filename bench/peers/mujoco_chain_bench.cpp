@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "batch_timing.hpp"
+#include "mujoco_peer.hpp"
 
 namespace {
 
@@ -87,15 +88,8 @@ int main(int argc, char** argv) {
   }
   if (n < 1 || repeat < 1) { std::fprintf(stderr, "N and --repeat must be >= 1\n"); return 2; }
 
-  const std::string xml = chain_mjcf(n, axes);
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  if (mj_makeEmptyFileVFS(vfs.get(), "chain.xml", static_cast<int>(xml.size())) != 0) return 1;
-  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), "chain.xml")], xml.data(), xml.size());
-  char error[1000] = "";
-  mjModel* m = mj_loadXML("chain.xml", vfs.get(), error, sizeof error);
-  mj_deleteVFS(vfs.get());
-  if (!m) { std::fprintf(stderr, "mj_loadXML: %s\n", error); return 1; }
+  mjModel* m = mujoco_peer::load_mjcf(chain_mjcf(n, axes), "chain.xml");
+  if (!m) return 1;
   mjData* d = mj_makeData(m);
 
   std::mt19937 rng(seed);
@@ -104,25 +98,15 @@ int main(int argc, char** argv) {
   for (int i = 0; i < m->nv; ++i) d->qvel[i] = uni(rng);
 
   double sink = 0;
-  const peers::BatchTiming timing = peers::time_batches(
-      [&] {
-        mj_forward(m, d);
-        sink += d->qacc[m->nv - 1];
-      },
-      repeat, batch_seconds);
+  const peers::BatchTiming timing = mujoco_peer::time_forward(m, d, repeat, batch_seconds, sink);
 
   std::printf("{\n  \"engine\": \"mujoco\",\n  \"mujoco_version\": %d,\n  \"n\": %d,\n  \"nq\": %d,\n  \"nv\": %d,\n",
               mj_version(), n, m->nq, m->nv);
   std::printf("  \"axes\": \"%s\",\n  \"seed\": %u,\n  \"repeat\": %d,\n", axes_spec.c_str(), seed, repeat);
   peers::print_timing("mj_forward", timing);
-  auto array = [](const char* name, const double* x, int k) {
-    std::printf("  \"%s\": [", name);
-    for (int i = 0; i < k; ++i) std::printf("%s%.17g", i ? ", " : "", x[i]);
-    std::printf("],\n");
-  };
-  array("qpos", d->qpos, m->nq);
-  array("qvel", d->qvel, m->nv);
-  array("qacc", d->qacc, m->nv);
+  peers::print_array("qpos", d->qpos, m->nq);
+  peers::print_array("qvel", d->qvel, m->nv);
+  peers::print_array("qacc", d->qacc, m->nv);
   std::printf("  \"checksum\": %.17g\n}\n", sink);
   mj_deleteData(d);
   mj_deleteModel(m);

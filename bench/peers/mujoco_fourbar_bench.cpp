@@ -36,6 +36,8 @@
 #include <vector>
 
 #include "batch_timing.hpp"
+#include "mujoco_peer.hpp"
+#include "four_bar_options.hpp"
 #include "four_bar_state.hpp"
 
 namespace {
@@ -84,29 +86,11 @@ std::string fourbar_mjcf(const char* integrator, double dt) {
   return buf;
 }
 
-mjModel* load(const std::string& xml) {
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  if (mj_makeEmptyFileVFS(vfs.get(), "four_bar.xml", static_cast<int>(xml.size())) != 0) return nullptr;
-  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), "four_bar.xml")], xml.data(), xml.size());
-  char error[1000] = "";
-  mjModel* m = mj_loadXML("four_bar.xml", vfs.get(), error, sizeof error);
-  mj_deleteVFS(vfs.get());
-  if (!m) std::fprintf(stderr, "mj_loadXML: %s\n", error);
-  return m;
-}
-
 // qpos0 is the assembled configuration (the refs); the speeds close the loop exactly.
 void set_initial_state(const mjModel* m, mjData* d) {
   mj_resetData(m, d);
   const auto y0 = four_bar::initial_state();
   for (int i = 0; i < 3; ++i) d->qvel[i] = y0.u[i];
-}
-
-void print_array(const char* name, const double* x, int k) {
-  std::printf("  \"%s\": [", name);
-  for (int i = 0; i < k; ++i) std::printf("%s%.17g", i ? ", " : "", x[i]);
-  std::printf("],\n");
 }
 
 // Largest closure error of the connect rows: position (m) and velocity (m/s), after mj_forward.
@@ -123,23 +107,18 @@ void print_residuals(const mjData* d) {
 int bench_forward(mjModel* m, mjData* d, int repeat, double batch_seconds) {
   set_initial_state(m, d);
   double sink = 0;
-  const peers::BatchTiming timing = peers::time_batches(
-      [&] {
-        mj_forward(m, d);
-        sink += d->qacc[m->nv - 1];
-      },
-      repeat, batch_seconds);
+  const peers::BatchTiming timing = mujoco_peer::time_forward(m, d, repeat, batch_seconds, sink);
 
   std::printf("{\n  \"engine\": \"mujoco\",\n  \"mujoco_version\": %d,\n  \"scene\": \"four_bar\",\n  \"nq\": %d,\n"
               "  \"nv\": %d,\n  \"nefc\": %d,\n  \"timestep\": %.6g,\n",
               mj_version(), m->nq, m->nv, d->nefc, m->opt.timestep);
   std::printf("  \"repeat\": %d,\n", repeat);
   peers::print_timing("mj_forward", timing);
-  print_array("qpos", d->qpos, m->nq);
-  print_array("qvel", d->qvel, m->nv);
-  print_array("qacc", d->qacc, m->nv);
+  peers::print_array("qpos", d->qpos, m->nq);
+  peers::print_array("qvel", d->qvel, m->nv);
+  peers::print_array("qacc", d->qacc, m->nv);
   // connect rows: world x, y, z of the force on body1 (the coupler end) from body2 (the rocker).
-  print_array("efc_force", d->efc_force, d->nefc);
+  peers::print_array("efc_force", d->efc_force, d->nefc);
   print_residuals(d);
   std::printf("  \"checksum\": %.17g\n}\n", sink);
   return 0;
@@ -167,43 +146,31 @@ int integrate(mjModel* m, mjData* d, const std::string& which, int repeat) {
               "  \"repeat\": %d,\n",
               mj_version(), which.c_str(), dt, d->time, steps, seconds[seconds.size() / 2], seconds.front(), repeat);
   print_residuals(d);
-  print_array("q", d->qpos, m->nq);
-  std::printf("  \"u\": [");
-  for (int i = 0; i < m->nv; ++i) std::printf("%s%.17g", i ? ", " : "", d->qvel[i]);
-  std::printf("]\n}\n");
+  peers::print_array("q", d->qpos, m->nq);
+  peers::print_array("u", d->qvel, m->nv, "\n}\n");
   return 0;
 }
+
+// A printf format: the program's name twice.
+constexpr const char* kUsage =
+    "usage: %s [--repeat R] [--batch-seconds B] [--dt DT]\n"
+    "       %s --integrate rk4|euler|implicit --dt DT [--repeat R]\n";
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  int repeat = 31;
-  double batch_seconds = 2e-3, dt = 1e-3;
-  std::string which;
-  for (int i = 1; i < argc; i += 2) {
-    if (i + 1 >= argc) { std::fprintf(stderr, "option %s needs a value\n", argv[i]); return 2; }
-    if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--batch-seconds")) batch_seconds = std::atof(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--integrate")) which = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--dt")) dt = std::atof(argv[i + 1]);
-    else {
-      std::fprintf(stderr,
-                   "usage: %s [--repeat R] [--batch-seconds B] [--dt DT]\n"
-                   "       %s --integrate rk4|euler|implicit --dt DT [--repeat R]\n",
-                   argv[0], argv[0]);
-      return 2;
-    }
-  }
-  if (repeat < 1 || !(dt > 0)) { std::fprintf(stderr, "--repeat must be >= 1 and --dt > 0\n"); return 2; }
-  const char* integrator = which.empty() || which == "rk4" ? "RK4"
-                           : which == "euler"               ? "Euler"
-                           : which == "implicit"            ? "implicit"
-                                                            : nullptr;
-  if (!integrator) { std::fprintf(stderr, "unknown integrator %s (rk4, euler, implicit)\n", which.c_str()); return 2; }
-  mjModel* m = load(fourbar_mjcf(integrator, dt));
+  four_bar::Options o;
+  if (!four_bar::parse_options(argc, argv, "--dt", kUsage, o)) return 2;
+  if (o.repeat < 1 || !(o.step > 0)) { std::fprintf(stderr, "--repeat must be >= 1 and --dt > 0\n"); return 2; }
+  const char* integrator = o.which.empty() || o.which == "rk4" ? "RK4"
+                           : o.which == "euler"                 ? "Euler"
+                           : o.which == "implicit"              ? "implicit"
+                                                                : nullptr;
+  if (!integrator) { std::fprintf(stderr, "unknown integrator %s (rk4, euler, implicit)\n", o.which.c_str()); return 2; }
+  mjModel* m = mujoco_peer::load_mjcf(fourbar_mjcf(integrator, o.step), "four_bar.xml");
   if (!m) return 1;
   mjData* d = mj_makeData(m);
-  const int status = which.empty() ? bench_forward(m, d, repeat, batch_seconds) : integrate(m, d, which, repeat);
+  const int status = o.which.empty() ? bench_forward(m, d, o.repeat, o.batch_seconds) : integrate(m, d, o.which, o.repeat);
   mj_deleteData(d);
   mj_deleteModel(m);
   return status;

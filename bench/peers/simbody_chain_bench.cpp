@@ -52,14 +52,9 @@ struct Chain {
   }
 };
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
+// `  "name": [...]` of a Simbody vector (peers::print_array).
 void print_array(const char* name, const SimTK::Vector& x, const char* end = ",\n") {
-  std::printf("  \"%s\": [", name);
-  for (int i = 0; i < x.size(); ++i) std::printf("%s%.17g", i ? ", " : "", x[i]);
-  std::printf("]%s", end);
+  peers::print_array(name, x, x.size(), end);
 }
 
 int bench_realize(int n, int repeat, unsigned seed, double batch_seconds, double yy) {
@@ -108,24 +103,12 @@ int integrate(int n, const std::string& which, double accuracy, int repeat, doub
     s.updQ()[0] = q0;
     s.updU() = 0;
     std::unique_ptr<SimTK::Integrator> integ = simbody_peer::make_integrator(c.system, which);
-    if (!integ) {
-      std::fprintf(stderr, "unknown integrator %s (%s)\n", which.c_str(), simbody_peer::integrator_names);
-      return 2;
-    }
+    if (!integ) return 2;
     integ->setAccuracy(accuracy);
     integ->setFinalTime(t_end);
     integ->initialize(s);
-    // The first call only starts the continuous interval; step until the final time.
-    while (integ->getTime() < t_end) {
-      const auto status = integ->stepTo(t_end, t_end);
-      if (status == SimTK::Integrator::EndOfSimulation && integ->getTime() < t_end) {
-        std::fprintf(stderr, "simbody_chain_bench: %s at t = %.17g\n",
-                     SimTK::Integrator::getTerminationReasonString(integ->getTerminationReason()).c_str(),
-                     integ->getTime());
-        return 4;
-      }
-    }
-    seconds.push_back(seconds_since(t0));
+    if (!simbody_peer::step_to_end(*integ, t_end, "simbody_chain_bench")) return 4;
+    seconds.push_back(peers::seconds_since(t0));
     const SimTK::State& e = integ->getState();
     q_end = e.getQ();
     u_end = e.getU();

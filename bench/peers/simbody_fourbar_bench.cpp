@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "batch_timing.hpp"
+#include "four_bar_options.hpp"
 #include "four_bar_state.hpp"
 #include "simbody_integrators.hpp"
 
@@ -90,14 +91,9 @@ struct FourBar {
   }
 };
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
+// `  "name": [...]` of a Simbody vector (peers::print_array).
 void print_array(const char* name, const SimTK::Vector& x, const char* end = ",\n") {
-  std::printf("  \"%s\": [", name);
-  for (int i = 0; i < x.size(); ++i) std::printf("%s%.17g", i ? ", " : "", x[i]);
-  std::printf("]%s", end);
+  peers::print_array(name, x, x.size(), end);
 }
 
 double max_abs(const SimTK::Vector& x) { return x.size() ? SimTK::max(SimTK::abs(x)) : 0.0; }
@@ -145,10 +141,7 @@ int integrate(const std::string& which, double accuracy, int repeat) {
   for (int r = 0; r < repeat; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<SimTK::Integrator> integ = simbody_peer::make_integrator(fb.system, which);
-    if (!integ) {
-      std::fprintf(stderr, "unknown integrator %s (%s)\n", which.c_str(), simbody_peer::integrator_names);
-      return 2;
-    }
+    if (!integ) return 2;
     integ->setAccuracy(accuracy);
     // Simbody projects q and u back onto the constraint manifold after every step whenever the
     // residual exceeds this tolerance; tying it to the accuracy keeps the drift at the level of
@@ -158,17 +151,8 @@ int integrate(const std::string& which, double accuracy, int repeat) {
     integ->setInternalStepLimit(100000000);
     integ->setFinalTime(four_bar::t_end);
     integ->initialize(fb.initial_state());
-    // The first call only starts the continuous interval; step until the final time.
-    while (integ->getTime() < four_bar::t_end) {
-      const auto status = integ->stepTo(four_bar::t_end, four_bar::t_end);
-      if (status == SimTK::Integrator::EndOfSimulation && integ->getTime() < four_bar::t_end) {
-        std::fprintf(stderr, "simbody_fourbar_bench: %s at t = %.17g\n",
-                     SimTK::Integrator::getTerminationReasonString(integ->getTerminationReason()).c_str(),
-                     integ->getTime());
-        return 4;
-      }
-    }
-    seconds.push_back(seconds_since(t0));
+    if (!simbody_peer::step_to_end(*integ, four_bar::t_end, "simbody_fourbar_bench")) return 4;
+    seconds.push_back(peers::seconds_since(t0));
     end = integ->getState();
     steps = integ->getNumStepsTaken();
     attempts = integ->getNumStepsAttempted();
@@ -191,29 +175,19 @@ int integrate(const std::string& which, double accuracy, int repeat) {
   return 0;
 }
 
+// A printf format: the program's name twice.
+constexpr const char* kUsage =
+    "usage: %s [--repeat R] [--batch-seconds B]\n"
+    "       %s --integrate NAME --accuracy A [--repeat R]\n";
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  int repeat = 31;
-  double batch_seconds = 2e-3, accuracy = 1e-3;
-  std::string which;
-  for (int i = 1; i < argc; i += 2) {
-    if (i + 1 >= argc) { std::fprintf(stderr, "option %s needs a value\n", argv[i]); return 2; }
-    if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--batch-seconds")) batch_seconds = std::atof(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--integrate")) which = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--accuracy")) accuracy = std::atof(argv[i + 1]);
-    else {
-      std::fprintf(stderr,
-                   "usage: %s [--repeat R] [--batch-seconds B]\n"
-                   "       %s --integrate NAME --accuracy A [--repeat R]\n",
-                   argv[0], argv[0]);
-      return 2;
-    }
-  }
-  if (repeat < 1) { std::fprintf(stderr, "--repeat must be >= 1\n"); return 2; }
+  four_bar::Options o;
+  if (!four_bar::parse_options(argc, argv, "--accuracy", kUsage, o)) return 2;
+  if (o.repeat < 1) { std::fprintf(stderr, "--repeat must be >= 1\n"); return 2; }
   try {
-    return which.empty() ? bench_realize(repeat, batch_seconds) : integrate(which, accuracy, repeat);
+    return o.which.empty() ? bench_realize(o.repeat, o.batch_seconds) : integrate(o.which, o.step, o.repeat);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "simbody_fourbar_bench: %s\n", e.what());
     return 1;

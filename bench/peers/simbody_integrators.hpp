@@ -4,6 +4,7 @@
 
 #include <Simbody.h>
 
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -12,7 +13,7 @@ namespace simbody_peer {
 inline constexpr const char* integrator_names =
     "rkm, rkf, rk3, verlet, cpodes (BDF/Newton), cpodes-adams (Adams/functional), cpodes-adams-newton";
 
-// nullptr for an unknown name.
+// nullptr, with the known names on stderr, for an unknown name.
 inline std::unique_ptr<SimTK::Integrator> make_integrator(const SimTK::System& system, const std::string& which) {
   using SimTK::CPodes;
   if (which == "rkm") return std::make_unique<SimTK::RungeKuttaMersonIntegrator>(system);
@@ -24,7 +25,23 @@ inline std::unique_ptr<SimTK::Integrator> make_integrator(const SimTK::System& s
     return std::make_unique<SimTK::CPodesIntegrator>(system, CPodes::Adams, CPodes::Functional);
   if (which == "cpodes-adams-newton")
     return std::make_unique<SimTK::CPodesIntegrator>(system, CPodes::Adams, CPodes::Newton);
+  std::fprintf(stderr, "unknown integrator %s (%s)\n", which.c_str(), integrator_names);
   return nullptr;
+}
+
+// Steps an initialized integrator to t_end (its first stepTo only starts the continuous
+// interval). False, with Simbody's reason on stderr after `program: `, if the simulation ends
+// before t_end.
+inline bool step_to_end(SimTK::Integrator& integ, double t_end, const char* program) {
+  while (integ.getTime() < t_end) {
+    const auto status = integ.stepTo(t_end, t_end);
+    if (status == SimTK::Integrator::EndOfSimulation && integ.getTime() < t_end) {
+      std::fprintf(stderr, "%s: %s at t = %.17g\n", program,
+                   SimTK::Integrator::getTerminationReasonString(integ.getTerminationReason()).c_str(), integ.getTime());
+      return false;
+    }
+  }
+  return true;
 }
 
 }  // namespace simbody_peer

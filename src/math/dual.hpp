@@ -102,20 +102,26 @@ template <class T> DualT<T> min(const DualT<T>& a, const DualT<T>& b) { return a
 template <class T> DualT<T> max(const DualT<T>& a, const DualT<T>& b) { return a.v >= b.v ? a : b; }
 template <class T> bool isfinite(const DualT<T>& a) { using std::isfinite; return isfinite(a.v) && isfinite(a.d); }
 
+// Eigen's view of a dual scalar D: a signed real whose operations cost ReadCost_, AddCost_ and
+// MulCost_ operations on doubles (Dual below; Dual2 in math/dual2.hpp).
+template <class D, int ReadCost_, int AddCost_, int MulCost_>
+struct DualNumTraits : Eigen::NumTraits<double> {
+  using Real = D;
+  using NonInteger = D;
+  using Nested = D;
+  using Literal = D;
+  enum { IsComplex = 0, IsInteger = 0, IsSigned = 1, RequireInitialization = 0,
+         ReadCost = ReadCost_, AddCost = AddCost_, MulCost = MulCost_ };
+};
+
 }  // namespace kanesens::math
 
 namespace Eigen {
 template <>
-struct NumTraits<kanesens::math::Dual> : NumTraits<double> {
-  using Real = kanesens::math::Dual;
-  using NonInteger = kanesens::math::Dual;
-  using Nested = kanesens::math::Dual;
-  using Literal = kanesens::math::Dual;
-  enum { IsComplex = 0, IsInteger = 0, IsSigned = 1, RequireInitialization = 0,
-         ReadCost = 2, AddCost = 2, MulCost = 3 };
-};
-template <typename BinaryOp>
-struct ScalarBinaryOpTraits<kanesens::math::Dual, double, BinaryOp> { using ReturnType = kanesens::math::Dual; };
-template <typename BinaryOp>
-struct ScalarBinaryOpTraits<double, kanesens::math::Dual, BinaryOp> { using ReturnType = kanesens::math::Dual; };
+struct NumTraits<kanesens::math::Dual> : kanesens::math::DualNumTraits<kanesens::math::Dual, 2, 2, 3> {};
+// A dual number and a double combine to a dual number, at every order.
+template <class T, typename BinaryOp>
+struct ScalarBinaryOpTraits<kanesens::math::DualT<T>, double, BinaryOp> { using ReturnType = kanesens::math::DualT<T>; };
+template <class T, typename BinaryOp>
+struct ScalarBinaryOpTraits<double, kanesens::math::DualT<T>, BinaryOp> { using ReturnType = kanesens::math::DualT<T>; };
 }  // namespace Eigen

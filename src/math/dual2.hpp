@@ -12,16 +12,5 @@ using Dual2 = DualT<Dual>;
 
 namespace Eigen {
 template <>
-struct NumTraits<kanesens::math::Dual2> : NumTraits<double> {
-  using Real = kanesens::math::Dual2;
-  using NonInteger = kanesens::math::Dual2;
-  using Nested = kanesens::math::Dual2;
-  using Literal = kanesens::math::Dual2;
-  enum { IsComplex = 0, IsInteger = 0, IsSigned = 1, RequireInitialization = 0,
-         ReadCost = 4, AddCost = 4, MulCost = 9 };
-};
-template <typename BinaryOp>
-struct ScalarBinaryOpTraits<kanesens::math::Dual2, double, BinaryOp> { using ReturnType = kanesens::math::Dual2; };
-template <typename BinaryOp>
-struct ScalarBinaryOpTraits<double, kanesens::math::Dual2, BinaryOp> { using ReturnType = kanesens::math::Dual2; };
+struct NumTraits<kanesens::math::Dual2> : kanesens::math::DualNumTraits<kanesens::math::Dual2, 4, 4, 9> {};
 }  // namespace Eigen

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <span>
 
 #include "model/scene/parse_scene.hpp"
 #include "model/yaml_reader.hpp"
@@ -100,11 +101,9 @@ void parse_solver(const YAML::Node& n, const YamlReader& r, sim::SolverOptions& 
   r.check_keys(n, key, {"method", "iteration", "rtol", "atol", "max_steps", "max_order", "initial_step", "max_step",
                         "jacobian", "linear_solver", "sensitivity", "constraints"});
   if (n["method"])
-    o.method = r.read_choice<Method>(n["method"], key + ".method",
-                                     {{"bdf", Method::bdf}, {"adams", Method::adams}, {"dop853", Method::dop853}});
+    o.method = r.read_choice<Method>(n["method"], key + ".method", std::span(kMethodNames));
   if (n["iteration"])
-    o.iteration = r.read_choice<Iteration>(n["iteration"], key + ".iteration",
-                                           {{"newton", Iteration::newton}, {"functional", Iteration::functional}});
+    o.iteration = r.read_choice<Iteration>(n["iteration"], key + ".iteration", std::span(kIterationNames));
   if (n["rtol"]) o.rtol = read_setting(r, n["rtol"], key + ".rtol");
   if (n["atol"]) {
     st.atol_where = r.location(n["atol"]);
@@ -120,24 +119,19 @@ void parse_solver(const YAML::Node& n, const YamlReader& r, sim::SolverOptions& 
   if (n["initial_step"]) o.initial_step = read_setting(r, n["initial_step"], key + ".initial_step");
   if (n["max_step"]) o.max_step = read_setting(r, n["max_step"], key + ".max_step");
   if (n["jacobian"])
-    o.jacobian = r.read_choice<JacobianKind>(n["jacobian"], key + ".jacobian",
-                                             {{"exact", JacobianKind::exact}, {"dq", JacobianKind::dq}});
+    o.jacobian = r.read_choice<JacobianKind>(n["jacobian"], key + ".jacobian", std::span(kJacobianKindNames));
   if (n["linear_solver"])
-    o.linear_solver = r.read_choice<LinearSolver>(
-        n["linear_solver"], key + ".linear_solver",
-        {{"dense", LinearSolver::dense}, {"krylov", LinearSolver::krylov}, {"auto", LinearSolver::automatic}});
+    o.linear_solver =
+        r.read_choice<LinearSolver>(n["linear_solver"], key + ".linear_solver", std::span(kLinearSolverNames));
   if (const YAML::Node s = n["sensitivity"]) {
     const std::string k2 = key + ".sensitivity";
     r.check_keys(s, k2, {"method", "error_control", "rhs", "atol"});
     if (s["method"])
-      o.sensitivity_method = r.read_choice<SensitivityMethod>(
-          s["method"], k2 + ".method",
-          {{"simultaneous", SensitivityMethod::simultaneous}, {"staggered", SensitivityMethod::staggered},
-           {"staggered1", SensitivityMethod::staggered1}, {"auto", SensitivityMethod::automatic}});
+      o.sensitivity_method =
+          r.read_choice<SensitivityMethod>(s["method"], k2 + ".method", std::span(kSensitivityMethodNames));
     if (s["error_control"]) o.sens_error_control = r.read_bool(s["error_control"], k2 + ".error_control");
     if (s["rhs"])
-      o.sens_rhs = r.read_choice<SensitivityRhs>(s["rhs"], k2 + ".rhs",
-                                                 {{"exact", SensitivityRhs::exact}, {"dq", SensitivityRhs::dq}});
+      o.sens_rhs = r.read_choice<SensitivityRhs>(s["rhs"], k2 + ".rhs", std::span(kSensitivityRhsNames));
     if (s["atol"]) o.sens_atol = read_setting(r, s["atol"], k2 + ".atol");
   }
   if (const YAML::Node c = n["constraints"]) parse_constraint_options(c, r, key + ".constraints", co);

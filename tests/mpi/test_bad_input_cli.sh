@@ -5,11 +5,7 @@
 # left untouched). `run` is checked under mpirun with 2 ranks.
 set -uo pipefail
 : "${KANESENS:?path to the kanesens executable}"
-: "${KANESENS_PYTHON:=/usr/bin/python3}"
-here=$(cd "$(dirname "$0")" && pwd)
-configs=$(cd "$here/../../configs" && pwd)
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/common.sh"
 cd "$work"
 failures=0 cases=0
 

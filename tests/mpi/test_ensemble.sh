@@ -7,10 +7,7 @@
 # --resume refuses a file of another study.
 set -euo pipefail
 : "${KANESENS:?path to the kanesens executable}"
-: "${KANESENS_PYTHON:=/usr/bin/python3}"
-here=$(cd "$(dirname "$0")" && pwd)
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/common.sh"
 study="$here/ensemble_study.yaml"
 run() { local np=$1; shift; mpirun --allow-run-as-root --oversubscribe -np "$np" "$KANESENS" run "$study" "$@"; }
 check() { "$KANESENS_PYTHON" "$here/check_ensemble.py" "$@"; }

@@ -6,11 +6,7 @@
 # krylov) and a sensitivity.
 set -euo pipefail
 : "${KANESENS:?path to the kanesens executable}"
-: "${KANESENS_PYTHON:=/usr/bin/python3}"
-here=$(cd "$(dirname "$0")" && pwd)
-configs="$here/../../configs"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/common.sh"
 run() { local np=$1 study=$2; shift 2; mpirun --allow-run-as-root --oversubscribe -np "$np" "$KANESENS" run "$study" "$@"; }
 check() { "$KANESENS_PYTHON" "$here/check_ensemble.py" "$@"; }
 

@@ -4,10 +4,7 @@
 # sample failed. Bad input is one clear line naming file:line:column and key, with no output.
 set -euo pipefail
 : "${KANESENS:?path to the kanesens executable}"
-: "${KANESENS_PYTHON:=/usr/bin/python3}"
-here=$(cd "$(dirname "$0")" && pwd)
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/common.sh"
 run() { mpirun --allow-run-as-root --oversubscribe -np 2 "$KANESENS" run "$@"; }
 check() { "$KANESENS_PYTHON" "$here/check_ensemble.py" "$@"; }
 

@@ -4,10 +4,7 @@
 # readable file with its completed samples intact, and --resume must finish it.
 set -euo pipefail
 : "${RUN_FILE_WRITER:?path to the run_file_writer test driver}"
-: "${KANESENS_PYTHON:=/usr/bin/python3}"
-here=$(cd "$(dirname "$0")" && pwd)
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/common.sh"
 mpirun_() { mpirun --allow-run-as-root --oversubscribe -np 3 "$@"; }
 check() { "$KANESENS_PYTHON" "$here/check_run_file.py" "$@"; }
 

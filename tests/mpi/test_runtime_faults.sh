@@ -12,10 +12,7 @@
 #     allocated at creation) and an interrupted run is --resume'd on the full disk.
 set -euo pipefail
 : "${KANESENS:?path to the kanesens executable}"
-: "${KANESENS_PYTHON:=/usr/bin/python3}"
-here=$(cd "$(dirname "$0")" && pwd)
-configs=$(cd "$here/../../configs" && pwd)
-work=$(mktemp -d)
+source "$(dirname "$0")/common.sh"
 mnt="$work/small"
 cleanup() { mountpoint -q "$mnt" 2>/dev/null && umount "$mnt"; rm -rf "$work"; }
 trap cleanup EXIT

@@ -292,36 +292,30 @@ def test_energy_conserved_without_dissipation(tmp_path, scene, overrides):
         assert abs(rate) < 1e-6 * scale, f"dE/dt = {rate}"
 
 
-def test_energy_rate_equals_damper_power():
-    """Cart with only rail friction: dE/dt = -c_cart * cart.u^2."""
-    num = numeric("configs/cart_double_pendulum.yaml",
-                  {"F0": 0.0, "c_sh": 0.0, "c_wall": 0.0, "c_cart": 0.7})
-    rng = np.random.default_rng(6)
+def _cart_energy_rates(overrides, seed):
+    """(t, u, dE/dt, its scale) of the cart double pendulum with `overrides`, at 3 random states."""
+    num = numeric("configs/cart_double_pendulum.yaml", overrides)
+    rng = np.random.default_rng(seed)
     for _ in range(3):
         t, q, u = kr.random_state(num.model, rng)
-        rate, scale = _energy_rate(num, t, q, u)
+        yield (t, u, *_energy_rate(num, t, q, u))
+
+
+def test_energy_rate_equals_damper_power():
+    """Cart with only rail friction: dE/dt = -c_cart * cart.u^2."""
+    for _t, u, rate, scale in _cart_energy_rates({"F0": 0.0, "c_sh": 0.0, "c_wall": 0.0, "c_cart": 0.7}, 6):
         assert rate == pytest.approx(-0.7 * u[0] ** 2, abs=1e-6 * scale)
 
 
 def test_energy_rate_equals_spring_damper_power():
     """Cart, only the wall spring-damper dissipates: L = x + 5, so dE/dt = -c_wall * cart.u^2."""
-    num = numeric("configs/cart_double_pendulum.yaml",
-                  {"F0": 0.0, "c_sh": 0.0, "c_cart": 0.0, "c_wall": 0.3})
-    rng = np.random.default_rng(7)
-    for _ in range(3):
-        t, q, u = kr.random_state(num.model, rng)
-        rate, scale = _energy_rate(num, t, q, u)
+    for _t, u, rate, scale in _cart_energy_rates({"F0": 0.0, "c_sh": 0.0, "c_cart": 0.0, "c_wall": 0.3}, 7):
         assert rate == pytest.approx(-0.3 * u[0] ** 2, abs=1e-6 * scale)
 
 
 def test_energy_rate_with_time_dependent_push():
     """Cart, only the push F0 sin(w t) along x: dE/dt = F0 sin(w t) * cart.u."""
-    num = numeric("configs/cart_double_pendulum.yaml",
-                  {"c_sh": 0.0, "c_cart": 0.0, "c_wall": 0.0})
-    rng = np.random.default_rng(8)
-    for _ in range(3):
-        t, q, u = kr.random_state(num.model, rng)
-        rate, scale = _energy_rate(num, t, q, u)
+    for t, u, rate, scale in _cart_energy_rates({"c_sh": 0.0, "c_cart": 0.0, "c_wall": 0.0}, 8):
         assert rate == pytest.approx(1.5 * math.sin(2.0 * t) * u[0], abs=1e-6 * scale)
 
 

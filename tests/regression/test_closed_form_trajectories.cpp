@@ -16,6 +16,7 @@
 
 #include "../support/closed_forms.hpp"
 #include "../support/kane_test_support.hpp"
+#include "../support/test_scenes.hpp"
 #include "sim/simulate.hpp"
 #include "../support/layers.hpp"
 
@@ -173,18 +174,7 @@ TEST(DampedOscillatorInputs, InitialConditionNamesAgreeWithParameters) {
 }
 
 // ---- (b) small-angle pendulum period ------------------------------------------------------------
-constexpr const char* kPendulum = R"yaml(
-kanesens: 1
-scene:
-  name: rod_pendulum
-  gravity: [0, -9.81, 0]
-  parameters: {m: 0.7, L: 1.2}
-  bodies:
-    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}
-  joints:
-    - {name: pivot, type: revolute, parent: ground, child: rod, axis: [0, 0, 1],
-       child_point: [0, "L/2", 0], q0: 1.0e-3}
-)yaml";
+const std::string kPendulum = kanesens::test_scenes::rod_pendulum_scene("rod_pendulum", "{m: 0.7, L: 1.2}", ", q0: 1.0e-3");
 
 // Root of the cubic Hermite interpolant of (q, q̇) on [t0, t1] (q0, q1 of opposite signs).
 double hermite_root(double t0, double t1, double q0, double q1, double d0, double d1) {

@@ -140,10 +140,12 @@ TEST(ConstrainedPendulum, FreeRodPinnedMatchesSphericalJoint) {
   EXPECT_LT(worst_x, 1e-7);
 }
 
-constexpr const char* kTwoPins = R"yaml(
+// The rod of configs/constrained_pendulum.yaml, pinned by `constraints` (YAML list items).
+std::string pinned_rod_scene(const std::string& name, const std::string& constraints) {
+  return R"yaml(
 kanesens: 1
 scene:
-  name: pinned_twice
+  name: )yaml" + name + R"yaml(
   gravity: [0, -9.81, 0]
   parameters: {m: 1.0, L: 1.0, theta0: 0.5}
   bodies:
@@ -152,25 +154,18 @@ scene:
     - {name: base, type: planar, parent: ground, child: rod, axis: [0, 0, 1],
        q0: ["L/2*sin(theta0)", "-L/2*cos(theta0)", theta0]}
   constraints:
+)yaml" + constraints;
+}
+
+const std::string kTwoPins = pinned_rod_scene("pinned_twice", R"yaml(
     - {name: pin1, type: coincident, body_a: rod, point_a: [0, "L/2", 0], body_b: ground, point_b: [0, 0, 0]}
     - {name: pin2, type: coincident, body_a: rod, point_a: [0, "L/2", 0], body_b: ground, point_b: [0, 0, 0]}
-)yaml";
+)yaml");
 
-constexpr const char* kXYZPin = R"yaml(
-kanesens: 1
-scene:
-  name: pinned_xyz
-  gravity: [0, -9.81, 0]
-  parameters: {m: 1.0, L: 1.0, theta0: 0.5}
-  bodies:
-    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}
-  joints:
-    - {name: base, type: planar, parent: ground, child: rod, axis: [0, 0, 1],
-       q0: ["L/2*sin(theta0)", "-L/2*cos(theta0)", theta0]}
-  constraints:
+const std::string kXYZPin = pinned_rod_scene("pinned_xyz", R"yaml(
     - {name: pin, type: coincident, body_a: rod, point_a: [0, "L/2", 0], body_b: ground, point_b: [0, 0, 0],
        components: [x, y, z]}
-)yaml";
+)yaml");
 
 TEST(ConstrainedPendulum, RedundantPinsShareTheReaction) {
   const ks::Model single = pendulum_model();

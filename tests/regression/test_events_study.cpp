@@ -70,21 +70,7 @@ TEST_P(EventsStudy, PendulumQuarterPeriodCountsAndSensitivities) {
 TEST_P(EventsStudy, EventTimeSensitivitiesMatchFiniteDifferences) {
   // g reads t, a state and a parameter: ∂g/∂t and ∂g/∂p enter dτ/dp.
   const std::string text = pendulum(GetParam(), "  - {name: e, when: \"pivot.q - 0.1*L + 0.05*t\", direction: falling}\n");
-  const std::string file = "events_fd_" + GetParam() + ".yaml";
-  const OutputRun base = run_output_study(text, file);
-  const auto& sens = base.problem->sensitivities();
-  for (std::size_t i = 0; i < sens.size(); ++i) {
-    const InputRef ref = sens[i];
-    const double x = base.sensitivity_input(i);
-    const double h = 1e-3 * std::max(1.0, std::abs(x));
-    auto tau = [&](double dx) {
-      return run_output_study(text, file, {}, [&](const Model&, SampleInputs& in) { in.set(ref, x + dx); }).scalar("e.time");
-    };
-    const double fd = (8 * (tau(h) - tau(-h)) - (tau(2 * h) - tau(-2 * h))) / (12 * h);
-    const double exact = base.scalar_sens("e.time", i);
-    std::printf("%s: dtau/dp%zu exact %.10f, finite differences %.10f\n", GetParam().c_str(), i, exact, fd);
-    EXPECT_NEAR(exact, fd, 1e-6 * std::max(1.0, std::abs(fd)));
-  }
+  expect_scalar_sensitivities_match_differences(text, "events_fd_" + GetParam() + ".yaml", {"e.time"}, 1e-3, 1e-6);
 }
 
 TEST_P(EventsStudy, StopEndsTheSampleWithAnOkStatus) {

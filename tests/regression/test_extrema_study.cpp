@@ -210,52 +210,10 @@ TEST_P(AtEvent, ValuesAtEventsMatchFiniteDifferences) {
                                     "  x: {of: tip.x, at_event: e}\n"
                                     "  peak: {of: \"tip.x + 0.1*t\", reduce: max}\n"
                                     "  t_peak: {of: \"tip.x + 0.1*t\", reduce: argmax}\n");
-  const std::string file = "at_event_fd_" + GetParam() + ".yaml";
-  const OutputRun base = run_output_study(text, file);
-  const auto& sens = base.problem->sensitivities();
-  for (std::size_t i = 0; i < sens.size(); ++i) {
-    const InputRef ref = sens[i];
-    const double x = base.sensitivity_input(i);
-    const double h = 1e-3 * std::max(1.0, std::abs(x));
-    for (const char* name : {"x", "peak", "t_peak"}) {
-      auto value = [&](double dx) {
-        return run_output_study(text, file, {}, [&](const Model&, SampleInputs& in) { in.set(ref, x + dx); }).scalar(name);
-      };
-      const double fd = (8 * (value(h) - value(-h)) - (value(2 * h) - value(-2 * h))) / (12 * h);
-      const double exact = base.scalar_sens(name, i);
-      std::printf("%s: d%s/dp%zu exact %.10f, finite differences %.10f\n", GetParam().c_str(), name, i, exact, fd);
-      EXPECT_NEAR(exact, fd, 1e-6 * std::max(1.0, std::abs(fd)));
-    }
-  }
+  expect_scalar_sensitivities_match_differences(text, "at_event_fd_" + GetParam() + ".yaml", {"x", "peak", "t_peak"},
+                                                1e-3, 1e-6);
 }
 
-namespace {
-
-// Central differences (fourth order) of full re-runs of `text` moving sensitivity input i, for the
-// scalar outputs `names`, against the run's exact sensitivities.
-void expect_scalar_sensitivities_match_differences(const std::string& text, const std::string& file,
-                                                   const std::vector<std::string>& names, double h_rel,
-                                                   double tol) {
-  const OutputRun base = run_output_study(text, file);
-  const auto& sens = base.problem->sensitivities();
-  for (std::size_t i = 0; i < sens.size(); ++i) {
-    const InputRef ref = sens[i];
-    const double x = base.sensitivity_input(i), h = h_rel * std::max(1.0, std::abs(x));
-    std::vector<OutputRun> runs;
-    for (double dx : {h, -h, 2 * h, -2 * h})
-      runs.push_back(run_output_study(text, file, {}, [&](const Model&, SampleInputs& in) { in.set(ref, x + dx); }));
-    for (const std::string& name : names) {
-      const double fd = (8 * (runs[0].scalar(name) - runs[1].scalar(name)) - (runs[2].scalar(name) - runs[3].scalar(name))) /
-                        (12 * h);
-      const double exact = base.scalar_sens(name, i);
-      std::printf("%s: d%s/dp%zu exact %.12f, finite differences %.12f (difference %.1e)\n", file.c_str(), name.c_str(), i,
-                  exact, fd, exact - fd);
-      EXPECT_NEAR(exact, fd, tol * std::max(1.0, std::abs(fd))) << name << " " << i;
-    }
-  }
-}
-
-}  // namespace
 
 // The times of interior extrema of a position, of an expression with a parameter and of a joint
 // load (acceleration level: its rate involves the derivative of u̇) at rtol 1e-12.

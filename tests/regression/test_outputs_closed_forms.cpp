@@ -25,17 +25,8 @@ namespace {
 constexpr double g = 9.81;
 
 // ---- (a) ----------------------------------------------------------------------------------------
-const std::string kPendulum = R"(kanesens: 1
-scene:
-  name: pendulum
-  gravity: [0, -9.81, 0]
-  parameters: {m: 1.3, L: 0.9}
-  bodies:
-    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}
-  joints:
-    - {name: pivot, type: revolute, parent: ground, child: rod, axis: [0, 0, 1],
-       child_point: [0, "L/2", 0], q0: 1.1, u0: 0.4}
-time: {end: 2.0, outputs: 41}
+const std::string kPendulum = kanesens::test_scenes::rod_pendulum_scene("pendulum", "{m: 1.3, L: 0.9}", ", q0: 1.1, u0: 0.4") +
+                               R"(time: {end: 2.0, outputs: 41}
 solver: {rtol: 1.0e-10, atol: 1.0e-12}
 outputs:
   tip:  {type: position, body: rod, point: [0, "-L/2", 0]}

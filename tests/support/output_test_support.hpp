@@ -2,9 +2,12 @@
 // (written to a temporary file, read by the study setup as `simulate` and `run` read it) and
 // look its outputs up by name.
 #pragma once
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -17,6 +20,7 @@
 #include "sim/simulate.hpp"
 #include "study/setup.hpp"
 #include "layers.hpp"
+#include "test_scenes.hpp"
 
 namespace kanesens::testing {
 
@@ -83,16 +87,7 @@ inline std::string pendulum_study_head(const std::string& method, double end = 3
   std::ostringstream end_text;
   end_text.precision(17);
   end_text << end;
-  return "kanesens: 1\n"
-         "scene:\n"
-         "  name: pendulum\n"
-         "  gravity: [0, -9.81, 0]\n"
-         "  parameters: {m: 1.0, L: 1.2}\n"
-         "  bodies:\n"
-         "    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}\n"
-         "  joints:\n"
-         "    - {name: pivot, type: revolute, parent: ground, child: rod, axis: [0, 0, 1],\n"
-         "       child_point: [0, \"L/2\", 0], q0: 0.9, u0: 0}\n"
+  return test_scenes::rod_pendulum_scene("pendulum", "{m: 1.0, L: 1.2}", ", q0: 0.9, u0: 0") +
          "time: {end: " + end_text.str() + ", outputs: " + std::to_string(outputs) + "}\n"
          "solver: {method: " + method + ", rtol: 1.0e-10, atol: 1.0e-12}\n"
          "sensitivities: [L, pivot.q0]\n";
@@ -121,6 +116,30 @@ inline OutputRun run_output_study(const std::string& text, const std::string& fi
   run.T = s.spec.output_times.size();
   run.ns = static_cast<std::size_t>(run.problem->num_sensitivities());
   return run;
+}
+
+// Central differences (fourth order) of full re-runs of `text` moving sensitivity input i, for the
+// scalar outputs `names`, against the run's exact sensitivities.
+inline void expect_scalar_sensitivities_match_differences(const std::string& text, const std::string& file,
+                                                          const std::vector<std::string>& names, double h_rel,
+                                                          double tol) {
+  const OutputRun base = run_output_study(text, file);
+  const auto& sens = base.problem->sensitivities();
+  for (std::size_t i = 0; i < sens.size(); ++i) {
+    const InputRef ref = sens[i];
+    const double x = base.sensitivity_input(i), h = h_rel * std::max(1.0, std::abs(x));
+    std::vector<OutputRun> runs;
+    for (double dx : {h, -h, 2 * h, -2 * h})
+      runs.push_back(run_output_study(text, file, {}, [&](const Model&, SampleInputs& in) { in.set(ref, x + dx); }));
+    for (const std::string& name : names) {
+      const double fd = (8 * (runs[0].scalar(name) - runs[1].scalar(name)) - (runs[2].scalar(name) - runs[3].scalar(name))) /
+                        (12 * h);
+      const double exact = base.scalar_sens(name, i);
+      std::printf("%s: d%s/dp%zu exact %.12f, finite differences %.12f (difference %.1e)\n", file.c_str(), name.c_str(), i,
+                  exact, fd, exact - fd);
+      EXPECT_NEAR(exact, fd, tol * std::max(1.0, std::abs(fd))) << name << " " << i;
+    }
+  }
 }
 
 }  // namespace kanesens::testing

@@ -112,4 +112,21 @@ scene:
     - {type: torque, name: brake, body: pole, vector: [0, 0, "-0.1*hinge.u"], frame: body}
 )yaml";
 
+// A uniform rod hinged at its top end to the ground, about z, gravity −y: the physical pendulum
+// of the closed-form tests (M = m L²/3, θ̈ = −(3g/2L) sin θ). `parameters` sets m and L
+// ("{m: 1.3, L: 0.9}"); `pivot` adds keys to the hinge (", q0: 1.1, u0: 0.4").
+inline std::string rod_pendulum_scene(const std::string& name, const std::string& parameters,
+                                      const std::string& pivot = "") {
+  return "kanesens: 1\n"
+         "scene:\n"
+         "  name: " + name + "\n"
+         "  gravity: [0, -9.81, 0]\n"
+         "  parameters: " + parameters + "\n"
+         "  bodies:\n"
+         "    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}\n"
+         "  joints:\n"
+         "    - {name: pivot, type: revolute, parent: ground, child: rod, axis: [0, 0, 1],\n"
+         "       child_point: [0, \"L/2\", 0]" + pivot + "}\n";
+}
+
 }  // namespace kanesens::test_scenes

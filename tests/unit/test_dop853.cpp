@@ -82,6 +82,33 @@ ks::SolverOptions dop853(double rtol, double atol) {
   return o;
 }
 
+// A tolerance no step can fail and a step bound: constant steps h (when the outputs are
+// multiples of h), so the error is the method's global error at step h.
+ks::SolverOptions dop853_constant_steps(double h) {
+  ks::SolverOptions o = dop853(1e3, 1e3);
+  o.initial_step = h;
+  o.max_step = h;
+  return o;
+}
+
+struct MaxErrors {
+  double x = 0, s = 0;  // max |x error|, max |dx/dk error|
+};
+
+// Errors of outputs [first, end) against the closed form.
+MaxErrors max_errors(const Spring& p, const Trajectory& r, const std::vector<double>& times, std::size_t first,
+                     std::size_t end) {
+  MaxErrors e;
+  for (std::size_t k = first; k < end; ++k) {
+    e.x = std::max(e.x, std::abs(r.x[k] - p.x(times[k])));
+    e.s = std::max(e.s, std::abs(r.s[k] - p.dx_dk(times[k])));
+  }
+  return e;
+}
+MaxErrors max_errors(const Spring& p, const Trajectory& r, const std::vector<double>& times) {
+  return max_errors(p, r, times, 0, times.size());
+}
+
 }  // namespace
 
 TEST(Dop853, EighthOrderForStatesAndSensitivities) {
@@ -89,20 +116,11 @@ TEST(Dop853, EighthOrderForStatesAndSensitivities) {
   const std::vector<double> times = grid(8.0, 11);  // outputs 0.8 apart: multiples of every h
   double prev_x = 0, prev_s = 0;
   for (double h : {0.4, 0.2, 0.1}) {
-    // A tolerance no step can fail and a step bound: constant steps h (the outputs are
-    // multiples of h), so the error is the method's global error at step h.
-    ks::SolverOptions o = dop853(1e3, 1e3);
-    o.initial_step = h;
-    o.max_step = h;
-    const Trajectory r = run(p, o, times);
+    const Trajectory r = run(p, dop853_constant_steps(h), times);  // the outputs are multiples of h
     ASSERT_TRUE(r.result.ok()) << r.result.message;
     EXPECT_EQ(r.result.stats.error_test_fails, 0);
     EXPECT_NEAR(static_cast<double>(r.result.stats.steps), 8.0 / h, 0.5);
-    double ex = 0, es = 0;
-    for (std::size_t k = 0; k < times.size(); ++k) {
-      ex = std::max(ex, std::abs(r.x[k] - p.x(times[k])));
-      es = std::max(es, std::abs(r.s[k] - p.dx_dk(times[k])));
-    }
+    const auto [ex, es] = max_errors(p, r, times);
     std::printf("h = %.3f: max |x error| %.3e, max |dx/dk error| %.3e\n", h, ex, es);
     if (prev_x > 0) {
       EXPECT_GT(prev_x / ex, 180) << "order below 7.5 at h = " << h;
@@ -124,18 +142,11 @@ TEST(Dop853, DenseOutputIsAccurateInsideTheSteps) {
   times.push_back(8.0);
   double prev_x = 0, prev_s = 0;
   for (double h : {0.4, 0.2, 0.1}) {
-    ks::SolverOptions o = dop853(1e3, 1e3);
-    o.initial_step = h;
-    o.max_step = h;
-    const Trajectory r = run(p, o, times);
+    const Trajectory r = run(p, dop853_constant_steps(h), times);
     ASSERT_TRUE(r.result.ok()) << r.result.message;
     EXPECT_NEAR(static_cast<double>(r.result.stats.steps), 8.0 / h, 0.5);
     EXPECT_EQ(r.result.stats.dense_outputs, 10);
-    double ex = 0, es = 0;
-    for (std::size_t k = 1; k + 1 < times.size(); ++k) {
-      ex = std::max(ex, std::abs(r.x[k] - p.x(times[k])));
-      es = std::max(es, std::abs(r.s[k] - p.dx_dk(times[k])));
-    }
+    const auto [ex, es] = max_errors(p, r, times, 1, times.size() - 1);
     std::printf("h = %.3f: interpolated max |x error| %.3e, max |dx/dk error| %.3e\n", h, ex, es);
     if (prev_x > 0) {
       EXPECT_GT(prev_x / ex, 128) << "interpolation order below 7 at h = " << h;
@@ -160,11 +171,7 @@ TEST(Dop853, OutputTimesDoNotCutTheSteps) {
   EXPECT_EQ(many.x.back(), two.x.back());
   EXPECT_EQ(many.s.back(), two.s.back());
   EXPECT_LT(many.result.stats.steps, 200) << "fewer steps than outputs";
-  double ex = 0, es = 0;
-  for (std::size_t k = 0; k < times.size(); ++k) {
-    ex = std::max(ex, std::abs(many.x[k] - p.x(times[k])));
-    es = std::max(es, std::abs(many.s[k] - p.dx_dk(times[k])));
-  }
+  const auto [ex, es] = max_errors(p, many, times);
   std::printf("1001 outputs, %ld steps: max |x error| %.2e, max |dx/dk error| %.2e\n", many.result.stats.steps, ex, es);
   EXPECT_LT(ex, 100 * 1e-9);
   EXPECT_LT(es, 1000 * 1e-9);
@@ -177,11 +184,7 @@ TEST(Dop853, ErrorFallsWithTheTolerance) {
   for (double rtol : {1e-6, 1e-9, 1e-12}) {
     const Trajectory r = run(p, dop853(rtol, rtol * 1e-2), times);
     ASSERT_TRUE(r.result.ok()) << r.result.message;
-    double e = 0, es = 0;
-    for (std::size_t k = 0; k < times.size(); ++k) {
-      e = std::max(e, std::abs(r.x[k] - p.x(times[k])));
-      es = std::max(es, std::abs(r.s[k] - p.dx_dk(times[k])));
-    }
+    const auto [e, es] = max_errors(p, r, times);
     std::printf("rtol %.0e: steps %ld (rejected %ld), rhs %ld, max error x %.2e, dx/dk %.2e\n", rtol,
                 r.result.stats.steps, r.result.stats.error_test_fails, r.result.stats.rhs_evals, e, es);
     EXPECT_LT(e, 100 * rtol);

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "../support/kane_test_support.hpp"
+#include "../support/test_scenes.hpp"
 #include "dynamics/equations.hpp"
 #include "dynamics/frames.hpp"
 #include "../support/layers.hpp"
@@ -38,6 +39,23 @@ Evaluated evaluate(const ks::Model& m, ks::Workspace<double>& ws, const std::vec
   return {ws.mass_matrix, ws.forcing, ks::kinetic_energy(m, ws),
           ks::potential_energy(m, ws, y.data())};
 }
+
+// The worst relative errors of M, f and the energies over the random states; `what` names the
+// system in the log and in a failure.
+struct WorstErrors {
+  double M = 0, f = 0, E = 0;
+  void add(double err_M, double err_f, double err_E) {
+    M = std::max(M, err_M);
+    f = std::max(f, err_f);
+    E = std::max(E, err_E);
+  }
+  void expect_below_tolerance(const char* what) const {
+    std::printf("%s: worst rel. error M %.2e, f %.2e, energies %.2e\n", what, M, f, E);
+    EXPECT_LT(M, kTol) << what;
+    EXPECT_LT(f, kTol) << what;
+    EXPECT_LT(E, kTol) << what;
+  }
+};
 
 // ---- (a) top on a spherical joint -----------------------------------------------------------
 constexpr const char* kTop = R"(
@@ -68,7 +86,7 @@ TEST(KaneClosedForms, TopOnSphericalJointIsEulerAboutFixedPoint) {
   const Matrix3d IO = Ic + mass * (r.squaredNorm() * Matrix3d::Identity() - r * r.transpose());
 
   std::mt19937_64 rng(20240611);
-  double worst_M = 0, worst_f = 0, worst_E = 0;
+  WorstErrors worst;
   for (int trial = 0; trial < 50; ++trial) {
     const std::vector<double> y = random_state(m, rng, 1.0, 3.0);
     const Eigen::Vector4d e(y[0], y[1], y[2], y[3]);
@@ -77,17 +95,12 @@ TEST(KaneClosedForms, TopOnSphericalJointIsEulerAboutFixedPoint) {
     const Evaluated ev = evaluate(m, ws, y);
 
     const Vector3d f_ref = -w.cross(IO * w) + r.cross(R.transpose() * (mass * g));
-    worst_M = std::max(worst_M, max_abs(ev.M - IO) / max_abs(IO));
-    worst_f = std::max(worst_f, (ev.f - f_ref).cwiseAbs().maxCoeff() / f_ref.cwiseAbs().maxCoeff());
     const double T_ref = 0.5 * w.dot(IO * w);
     const double V_ref = -mass * g.dot(R * r);
-    worst_E = std::max(worst_E, std::abs(ev.T - T_ref) / std::abs(T_ref) +
-                                    std::abs(ev.V - V_ref) / (mass * g.norm() * l));
+    worst.add(max_abs(ev.M - IO) / max_abs(IO), (ev.f - f_ref).cwiseAbs().maxCoeff() / f_ref.cwiseAbs().maxCoeff(),
+              std::abs(ev.T - T_ref) / std::abs(T_ref) + std::abs(ev.V - V_ref) / (mass * g.norm() * l));
   }
-  std::printf("top: worst rel. error M %.2e, f %.2e, energies %.2e\n", worst_M, worst_f, worst_E);
-  EXPECT_LT(worst_M, kTol);
-  EXPECT_LT(worst_f, kTol);
-  EXPECT_LT(worst_E, kTol);
+  worst.expect_below_tolerance("top");
 }
 
 // ---- (b) free body ----------------------------------------------------------------------------
@@ -119,40 +132,23 @@ TEST(KaneClosedForms, FreeBodyIsNewtonEuler) {
   M_ref.bottomRightCorner(3, 3) = I;
 
   std::mt19937_64 rng(7);
-  double worst_M = 0, worst_f = 0, worst_E = 0;
+  WorstErrors worst;
   for (int trial = 0; trial < 50; ++trial) {
     const std::vector<double> y = random_state(m, rng, 2.0, 3.0);
     const Vector3d x(y[0], y[1], y[2]), v(y[7], y[8], y[9]), w(y[10], y[11], y[12]);
     const Evaluated ev = evaluate(m, ws, y);
     Eigen::VectorXd f_ref(6);
     f_ref << mass * g, -w.cross(I * w);
-    worst_M = std::max(worst_M, max_abs(ev.M - M_ref) / max_abs(M_ref));
-    worst_f = std::max(worst_f, (ev.f - f_ref).cwiseAbs().maxCoeff() / f_ref.cwiseAbs().maxCoeff());
     const double T_ref = 0.5 * mass * v.squaredNorm() + 0.5 * w.dot(I * w);
     const double V_ref = -mass * g.dot(x);
-    worst_E = std::max(
-        worst_E, std::abs(ev.T - T_ref) / T_ref + std::abs(ev.V - V_ref) / (mass * g.norm() * 2));
+    worst.add(max_abs(ev.M - M_ref) / max_abs(M_ref), (ev.f - f_ref).cwiseAbs().maxCoeff() / f_ref.cwiseAbs().maxCoeff(),
+              std::abs(ev.T - T_ref) / T_ref + std::abs(ev.V - V_ref) / (mass * g.norm() * 2));
   }
-  std::printf("free body: worst rel. error M %.2e, f %.2e, energies %.2e\n", worst_M, worst_f,
-              worst_E);
-  EXPECT_LT(worst_M, kTol);
-  EXPECT_LT(worst_f, kTol);
-  EXPECT_LT(worst_E, kTol);
+  worst.expect_below_tolerance("free body");
 }
 
 // ---- (c) uniform rod pendulum -----------------------------------------------------------------
-constexpr const char* kPendulum = R"(
-kanesens: 1
-scene:
-  name: rod_pendulum
-  gravity: [0, -9.81, 0]
-  parameters: {m: 1.3, L: 0.9}
-  bodies:
-    - {name: rod, mass: m, inertia: {shape: rod, length: L, axis: y}}
-  joints:
-    - {name: pivot, type: revolute, parent: ground, child: rod, axis: [0, 0, 1],
-       parent_point: [0, 0, 0], child_point: [0, "L/2", 0]}
-)";
+const std::string kPendulum = kanesens::test_scenes::rod_pendulum_scene("rod_pendulum", "{m: 1.3, L: 0.9}");
 
 TEST(KaneClosedForms, UniformRodPendulum) {
   const ks::Model m = model_from_text(kPendulum);
@@ -161,22 +157,16 @@ TEST(KaneClosedForms, UniformRodPendulum) {
   ks::set_parameters(m, ws, p.data());
   const double mass = 1.3, L = 0.9, g = 9.81;
   std::mt19937_64 rng(11);
-  double worst_M = 0, worst_f = 0, worst_E = 0;
+  WorstErrors worst;
   for (int trial = 0; trial < 50; ++trial) {
     const std::vector<double> y = random_state(m, rng, 4.0, 5.0);
     const Evaluated ev = evaluate(m, ws, y);
     const double M_ref = mass * L * L / 3, f_ref = -mass * g * (L / 2) * std::sin(y[0]);
-    worst_M = std::max(worst_M, std::abs(ev.M(0, 0) - M_ref) / M_ref);
-    worst_f = std::max(worst_f, std::abs(ev.f[0] - f_ref) / (mass * g * L / 2));
     const double T_ref = 0.5 * M_ref * y[1] * y[1], V_ref = -mass * g * (L / 2) * std::cos(y[0]);
-    worst_E = std::max(
-        worst_E, std::abs(ev.T - T_ref) / (M_ref * 25) + std::abs(ev.V - V_ref) / (mass * g * L));
+    worst.add(std::abs(ev.M(0, 0) - M_ref) / M_ref, std::abs(ev.f[0] - f_ref) / (mass * g * L / 2),
+              std::abs(ev.T - T_ref) / (M_ref * 25) + std::abs(ev.V - V_ref) / (mass * g * L));
   }
-  std::printf("rod pendulum: worst rel. error M %.2e, f %.2e, energies %.2e\n", worst_M, worst_f,
-              worst_E);
-  EXPECT_LT(worst_M, kTol);
-  EXPECT_LT(worst_f, kTol);
-  EXPECT_LT(worst_E, kTol);
+  worst.expect_below_tolerance("rod pendulum");
 }
 
 // ---- (d) prismatic spring–mass–damper ---------------------------------------------------------

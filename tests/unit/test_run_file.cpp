@@ -442,27 +442,26 @@ TEST_F(RunFileTest, StudyOutputsTheirSensitivitiesAndPoses) {
   for (std::size_t k = 0; k < outputs.size(); ++k) outputs[k] = 10.0 + k;
   for (std::size_t k = 0; k < output_sens.size(); ++k) output_sens[k] = 20.0 + k;
   for (std::size_t k = 0; k < poses.size(); ++k) poses[k] = 30.0 + k;
-  Row r;
-  SampleBlock block;
-  for (std::int64_t i = 0; i < 2; ++i) {
-    SampleRow row = r.row(i, 1);
+  const auto set_outputs = [&](SampleRow& row) {
     row.outputs = outputs;
-    row.stats = stats;
     row.scalar_outputs = scalars;
     row.output_sensitivities = output_sens;
     row.scalar_output_sensitivities = scalar_sens;
     row.poses = poses;
+  };
+  Row r;
+  SampleBlock block;
+  for (std::int64_t i = 0; i < 2; ++i) {
+    SampleRow row = r.row(i, 1);
+    set_outputs(row);
+    row.stats = stats;
     block.append(row);
   }
   {
     RunFile file = RunFile::create(MPI_COMM_WORLD, path_, l, false);
     file.write_samples(block);
     SampleRow row = r.row(2, 1);
-    row.outputs = outputs;
-    row.scalar_outputs = scalars;
-    row.output_sensitivities = output_sens;
-    row.scalar_output_sensitivities = scalar_sens;
-    row.poses = poses;
+    set_outputs(row);
     file.write_sample(row);
     SampleRow missing = row;
     missing.poses = {};

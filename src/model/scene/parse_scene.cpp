@@ -15,16 +15,19 @@ std::string idx(const std::string& key, std::size_t i) { return key + "[" + std:
 
 Vec3Text zero_vec3() { return {ExprText{}, ExprText{}, ExprText{}}; }
 
-constexpr std::pair<std::string_view, JointType> kJointTypes[] = {
-    {"revolute", JointType::revolute},   {"prismatic", JointType::prismatic}, {"cylindrical", JointType::cylindrical},
-    {"universal", JointType::universal}, {"planar", JointType::planar},       {"spherical", JointType::spherical},
-    {"free", JointType::free},           {"weld", JointType::weld}};
-constexpr std::pair<std::string_view, ForceKind> kForceKinds[] = {
-    {"spring_damper", ForceKind::spring_damper}, {"force", ForceKind::force}, {"torque", ForceKind::torque}};
-constexpr std::pair<std::string_view, ConstraintKind> kConstraintKinds[] = {
-    {"coincident", ConstraintKind::coincident}, {"distance", ConstraintKind::distance},
-    {"coupler", ConstraintKind::coupler},       {"rolling", ConstraintKind::rolling},
-    {"general", ConstraintKind::general}};
+// The optional vector `k` of map `n`; zero when it is not given.
+Vec3Text vec3_or_zero(const YAML::Node& n, const YamlReader& r, const std::string& key, const char* k) {
+  return n[k] ? r.read_vec3(n[k], key + "." + k) : zero_vec3();
+}
+
+// The two body points a spring-damper or a coincident/distance constraint joins.
+template <class Spec>
+void read_body_points(const YAML::Node& n, const YamlReader& r, const std::string& key, Spec& s) {
+  s.body_a = r.read_string(r.required(n, "body_a", key), key + ".body_a");
+  s.body_b = r.read_string(r.required(n, "body_b", key), key + ".body_b");
+  s.point_a = vec3_or_zero(n, r, key, "point_a");
+  s.point_b = vec3_or_zero(n, r, key, "point_b");
+}
 
 // The kind named by `n`, or "unknown joint type 'x' (did you mean 'y'?); types are: ...".
 template <class E>
@@ -120,8 +123,8 @@ JointSpec parse_joint(const YAML::Node& n, const YamlReader& r, const std::strin
     for (std::size_t i = 0; i < n["axes"].size(); ++i)
       j.axes.push_back(r.read_vec3(n["axes"][i], idx(key + ".axes", i)));
   }
-  j.parent_point = n["parent_point"] ? r.read_vec3(n["parent_point"], key + ".parent_point") : zero_vec3();
-  j.child_point = n["child_point"] ? r.read_vec3(n["child_point"], key + ".child_point") : zero_vec3();
+  j.parent_point = vec3_or_zero(n, r, key, "parent_point");
+  j.child_point = vec3_or_zero(n, r, key, "child_point");
   if (n["q0"]) j.q0 = r.read_expr_list(n["q0"], key + ".q0");
   if (n["u0"]) j.u0 = r.read_expr_list(n["u0"], key + ".u0");
   if (const YAML::Node s = n["spring"]) {
@@ -137,18 +140,23 @@ JointSpec parse_joint(const YAML::Node& n, const YamlReader& r, const std::strin
   return j;
 }
 
-ForceSpec parse_force(const YAML::Node& n, const YamlReader& r, const std::string& key) {
+// A force or a constraint: a map, its kind named by `type`; where it was written, for messages.
+template <class Spec, class E, std::size_t N>
+Spec read_typed_map(const YAML::Node& n, const YamlReader& r, const std::string& key, const char* what,
+                    const EnumName<E> (&kinds)[N]) {
   r.require_map(n, key);
-  ForceSpec f;
-  f.where = r.location(n);
-  f.key = key;
-  f.kind = read_kind<ForceKind>(r.required(n, "type", key), r, key + ".type", "force type", kForceKinds);
+  Spec s;
+  s.where = r.location(n);
+  s.key = key;
+  s.kind = read_kind<E>(r.required(n, "type", key), r, key + ".type", what, kinds);
+  return s;
+}
+
+ForceSpec parse_force(const YAML::Node& n, const YamlReader& r, const std::string& key) {
+  ForceSpec f = read_typed_map<ForceSpec>(n, r, key, "force type", kForceKinds);
   if (f.kind == ForceKind::spring_damper) {
     r.check_keys(n, key, {"type", "name", "body_a", "point_a", "body_b", "point_b", "k", "c", "rest"});
-    f.body_a = r.read_string(r.required(n, "body_a", key), key + ".body_a");
-    f.body_b = r.read_string(r.required(n, "body_b", key), key + ".body_b");
-    f.point_a = n["point_a"] ? r.read_vec3(n["point_a"], key + ".point_a") : zero_vec3();
-    f.point_b = n["point_b"] ? r.read_vec3(n["point_b"], key + ".point_b") : zero_vec3();
+    read_body_points(n, r, key, f);
     f.k = n["k"] ? r.read_expr(n["k"], key + ".k") : ExprText{"0", f.where, key + ".k"};
     f.c = n["c"] ? r.read_expr(n["c"], key + ".c") : ExprText{"0", f.where, key + ".c"};
     f.rest = n["rest"] ? r.read_expr(n["rest"], key + ".rest") : ExprText{"0", f.where, key + ".rest"};
@@ -156,7 +164,7 @@ ForceSpec parse_force(const YAML::Node& n, const YamlReader& r, const std::strin
     if (f.kind == ForceKind::force) r.check_keys(n, key, {"type", "name", "body", "point", "vector", "frame"});
     else r.check_keys(n, key, {"type", "name", "body", "vector", "frame"});
     f.body = r.read_string(r.required(n, "body", key), key + ".body");
-    f.point = n["point"] ? r.read_vec3(n["point"], key + ".point") : zero_vec3();
+    f.point = vec3_or_zero(n, r, key, "point");
     f.vector = r.read_vec3(r.required(n, "vector", key), key + ".vector");
     if (n["frame"]) {
       const std::string frame = r.read_string(n["frame"], key + ".frame");
@@ -170,20 +178,12 @@ ForceSpec parse_force(const YAML::Node& n, const YamlReader& r, const std::strin
 }
 
 ConstraintSpec parse_constraint(const YAML::Node& n, const YamlReader& r, const std::string& key) {
-  r.require_map(n, key);
-  ConstraintSpec c;
-  c.where = r.location(n);
-  c.key = key;
-  c.kind = read_kind<ConstraintKind>(r.required(n, "type", key), r, key + ".type", "constraint type", kConstraintKinds);
+  ConstraintSpec c = read_typed_map<ConstraintSpec>(n, r, key, "constraint type", kConstraintKinds);
   c.name = n["name"] ? r.read_string(n["name"], key + ".name") : "";
-  auto vec_or_zero = [&](const char* k) { return n[k] ? r.read_vec3(n[k], key + "." + k) : zero_vec3(); };
   if (c.kind == ConstraintKind::coincident || c.kind == ConstraintKind::distance) {
     if (c.kind == ConstraintKind::coincident) r.check_keys(n, key, {"type", "name", "body_a", "point_a", "body_b", "point_b", "components"});
     else r.check_keys(n, key, {"type", "name", "body_a", "point_a", "body_b", "point_b", "length"});
-    c.body_a = r.read_string(r.required(n, "body_a", key), key + ".body_a");
-    c.body_b = r.read_string(r.required(n, "body_b", key), key + ".body_b");
-    c.point_a = vec_or_zero("point_a");
-    c.point_b = vec_or_zero("point_b");
+    read_body_points(n, r, key, c);
     if (c.kind == ConstraintKind::distance) c.length = r.read_expr(r.required(n, "length", key), key + ".length");
     if (const YAML::Node comp = n["components"]) {
       r.require_sequence(comp, key + ".components");
@@ -247,7 +247,7 @@ SceneSpec parse_scene_node(const YAML::Node& n, const std::string& file, const s
   s.text = text;
   s.where = r.location(n);
   s.name = r.read_string(r.required(n, "name", key), key + ".name");
-  s.gravity = n["gravity"] ? r.read_vec3(n["gravity"], key + ".gravity") : zero_vec3();
+  s.gravity = vec3_or_zero(n, r, key, "gravity");
   if (const YAML::Node p = n["parameters"]) {
     if (!p.IsNull()) {
       r.require_map(p, key + ".parameters");

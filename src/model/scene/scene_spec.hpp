@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "util/enum_names.hpp"
 #include "util/error.hpp"
 
 namespace kanesens::model {
@@ -15,6 +16,17 @@ namespace kanesens::model {
 enum class JointType { revolute, prismatic, cylindrical, universal, planar, spherical, free, weld };
 enum class ForceKind { spring_damper, force, torque };
 enum class ConstraintKind { coincident, distance, coupler, general, rolling };
+// Their names in the YAML (util/enum_names.hpp), in the order the parser's messages list them.
+inline constexpr EnumName<JointType> kJointTypes[] = {
+    {"revolute", JointType::revolute},   {"prismatic", JointType::prismatic}, {"cylindrical", JointType::cylindrical},
+    {"universal", JointType::universal}, {"planar", JointType::planar},       {"spherical", JointType::spherical},
+    {"free", JointType::free},           {"weld", JointType::weld}};
+inline constexpr EnumName<ForceKind> kForceKinds[] = {
+    {"spring_damper", ForceKind::spring_damper}, {"force", ForceKind::force}, {"torque", ForceKind::torque}};
+inline constexpr EnumName<ConstraintKind> kConstraintKinds[] = {
+    {"coincident", ConstraintKind::coincident}, {"distance", ConstraintKind::distance},
+    {"coupler", ConstraintKind::coupler},       {"rolling", ConstraintKind::rolling},
+    {"general", ConstraintKind::general}};
 const char* joint_type_name(JointType t);
 const char* force_kind_name(ForceKind k);
 const char* constraint_kind_name(ConstraintKind k);

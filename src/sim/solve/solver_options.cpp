@@ -56,34 +56,12 @@ void SolverOptions::validate(int n) const {
     invalid("projection_frequency", "must be >= 0", projection_frequency);
 }
 
-std::string_view to_string(Method m) {
-  switch (m) {
-    case Method::bdf:
-      return "bdf";
-    case Method::adams:
-      return "adams";
-    case Method::dop853:
-      return "dop853";
-  }
-  return "?";
-}
-std::string_view to_string(Iteration it) {
-  return it == Iteration::newton ? "newton" : "functional";
-}
-std::string_view to_string(JacobianKind j) {
-  return j == JacobianKind::exact ? "exact" : "dq";
-}
-std::string_view to_string(LinearSolver l) {
-  switch (l) {
-    case LinearSolver::dense:
-      return "dense";
-    case LinearSolver::krylov:
-      return "krylov";
-    case LinearSolver::automatic:
-      return "auto";
-  }
-  return "?";
-}
+std::string_view to_string(Method m) { return name_of(kMethodNames, m); }
+std::string_view to_string(Iteration it) { return name_of(kIterationNames, it); }
+std::string_view to_string(JacobianKind j) { return name_of(kJacobianKindNames, j); }
+std::string_view to_string(LinearSolver l) { return name_of(kLinearSolverNames, l); }
+std::string_view to_string(SensitivityMethod s) { return name_of(kSensitivityMethodNames, s); }
+std::string_view to_string(SensitivityRhs s) { return name_of(kSensitivityRhsNames, s); }
 LinearSolver resolve_linear_solver(LinearSolver option, int n, double jacobian_rate) {
   if (option != LinearSolver::automatic) return option;
   return n >= kKrylovMinStates && jacobian_rate <= kKrylovMaxRate ? LinearSolver::krylov : LinearSolver::dense;
@@ -91,22 +69,6 @@ LinearSolver resolve_linear_solver(LinearSolver option, int n, double jacobian_r
 SensitivityMethod resolve_sensitivity_method(SensitivityMethod option, bool with_projection) {
   if (option != SensitivityMethod::automatic) return option;
   return with_projection ? SensitivityMethod::staggered : SensitivityMethod::simultaneous;
-}
-std::string_view to_string(SensitivityMethod s) {
-  switch (s) {
-    case SensitivityMethod::simultaneous:
-      return "simultaneous";
-    case SensitivityMethod::staggered:
-      return "staggered";
-    case SensitivityMethod::staggered1:
-      return "staggered1";
-    case SensitivityMethod::automatic:
-      return "auto";
-  }
-  return "?";
-}
-std::string_view to_string(SensitivityRhs s) {
-  return s == SensitivityRhs::exact ? "exact" : "dq";
 }
 
 }  // namespace kanesens::sim

@@ -5,6 +5,8 @@
 #include <string_view>
 #include <vector>
 
+#include "util/enum_names.hpp"
+
 namespace kanesens::sim {
 
 // CV_BDF (stiff) | CV_ADAMS (non-stiff) | explicit Runge–Kutta 8(5,3) (non-stiff, tight
@@ -54,6 +56,24 @@ struct SolverOptions {
   // (checks atol_per_state); pass -1 to skip size-dependent checks.
   void validate(int n = -1) const;
 };
+
+// Every value of each option with its name in the study file (`solver:`) and in the outputs
+// (util/enum_names.hpp): the study parser and to_string read these tables.
+inline constexpr EnumName<Method> kMethodNames[] = {
+    {"bdf", Method::bdf}, {"adams", Method::adams}, {"dop853", Method::dop853}};
+inline constexpr EnumName<Iteration> kIterationNames[] = {
+    {"newton", Iteration::newton}, {"functional", Iteration::functional}};
+inline constexpr EnumName<JacobianKind> kJacobianKindNames[] = {
+    {"exact", JacobianKind::exact}, {"dq", JacobianKind::dq}};
+inline constexpr EnumName<LinearSolver> kLinearSolverNames[] = {
+    {"dense", LinearSolver::dense}, {"krylov", LinearSolver::krylov}, {"auto", LinearSolver::automatic}};
+inline constexpr EnumName<SensitivityMethod> kSensitivityMethodNames[] = {
+    {"simultaneous", SensitivityMethod::simultaneous},
+    {"staggered", SensitivityMethod::staggered},
+    {"staggered1", SensitivityMethod::staggered1},
+    {"auto", SensitivityMethod::automatic}};
+inline constexpr EnumName<SensitivityRhs> kSensitivityRhsNames[] = {
+    {"exact", SensitivityRhs::exact}, {"dq", SensitivityRhs::dq}};
 
 std::string_view to_string(Method m);
 std::string_view to_string(Iteration it);
