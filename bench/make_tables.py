@@ -133,15 +133,11 @@ def sensitivity_cost_few_constrained():
 
 
 def jacobian_cost_arch():
-    import jacobian_cost as m
-    path = RESULTS / "jacobian_cost_arch.json"
-    return printed(m.table, path) + source(path)
+    return driver_table("jacobian_cost", "jacobian_cost_arch.json")
 
 
 def sensitivity_cost_arch():
-    import sensitivity_cost as m
-    path = RESULTS / "sensitivity_cost_arch.json"
-    return printed(m.table, path) + source(path)
+    return driver_table("sensitivity_cost", "sensitivity_cost_arch.json")
 
 
 def sensitivity_corrector():
