@@ -132,6 +132,14 @@ def sensitivity_cost_few_constrained():
     return driver_table("sensitivity_cost", "sensitivity_cost_few_constrained.json")
 
 
+def jacobian_cost_arch():
+    return driver_table("jacobian_cost", "jacobian_cost_arch.json")
+
+
+def sensitivity_cost_arch():
+    return driver_table("sensitivity_cost", "sensitivity_cost_arch.json")
+
+
 def sensitivity_corrector():
     return driver_table("sensitivity_corrector", "sensitivity_corrector.json", "summary")
 
@@ -805,7 +813,8 @@ TABLES = {
     "rhs_mujoco": rhs_mujoco, "rhs_paths": rhs_paths, "jacobian_cost": jacobian_cost,
     "sensitivity_cost": sensitivity_cost, "sensitivity_cost_few": sensitivity_cost_few,
     "sensitivity_cost_few_constrained": sensitivity_cost_few_constrained,
-    "sensitivity_cost_jacobian": sensitivity_cost_jacobian, "multitangent": multitangent, "outputs_cost": outputs_cost,
+    "sensitivity_cost_jacobian": sensitivity_cost_jacobian, "jacobian_cost_arch": jacobian_cost_arch,
+    "sensitivity_cost_arch": sensitivity_cost_arch, "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,
     "sensitivities": sensitivities_table, "constraints": constraints_table, "ensemble": ensemble_table,

@@ -24,9 +24,12 @@ template <int N>
 struct MultiDual {
   static_assert(N >= 1, "at least one tangent");
   // Tangents travel in packs of `lanes` doubles (GCC/Clang vector extension): one SIMD register
-  // (4 with AVX, 2 with SSE2). 8-byte aligned so that the struct has no padding (GCC copies
+  // (8 with AVX-512, 4 with AVX, 2 with SSE2: the build's instruction set, KANESENS_ARCH in
+  // CMakeLists.txt). 8-byte aligned so that the struct has no padding (GCC copies
   // padding through the stack, which stalls the next load of the value).
-#ifdef __AVX__
+#if defined(__AVX512F__)
+  static constexpr int lanes = 8;
+#elif defined(__AVX__)
   static constexpr int lanes = 4;
 #else
   static constexpr int lanes = 2;

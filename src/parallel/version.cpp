@@ -24,7 +24,7 @@ std::string version_report() {
 #endif
   out << "Eigen " << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION << "." << EIGEN_MINOR_VERSION
       << "\n";
-  out << "compiler " << __VERSION__ << "\n";
+  out << "compiler " << __VERSION__ << ", instruction set " << instruction_set() << "\n";
   return out.str();
 }
 

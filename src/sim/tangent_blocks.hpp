@@ -31,7 +31,8 @@ struct TangentBlock {
 };
 
 // k directions take ⌈k/16⌉ passes: blocks of 16 and one block of the smallest width that holds
-// the rest (at most 3 idle lanes). Fewer, wider passes win: each pass repeats the value work.
+// the rest (at most 3 idle directions, rounded up to whole SIMD packs). Fewer, wider passes win:
+// each pass repeats the value work.
 class TangentBlocks {
  public:
   static constexpr int max_width = 16;

@@ -7,5 +7,7 @@ namespace kanesens {
 
 // "0.1.0 (git abc123)".
 std::string version_short();
+// What the build was compiled for: "-march=VALUE" (KANESENS_ARCH) or the compiler's baseline.
+std::string instruction_set();
 
 }  // namespace kanesens
