@@ -1,5 +1,6 @@
 // Dynamics stage of Kane's equations: mass matrix, forcing, energies, the solve for u̇.
 #include <cmath>
+#include <type_traits>
 
 #include "math/dual.hpp"
 #include "math/dual2.hpp"
@@ -14,7 +15,7 @@
 namespace kanesens::dynamics {
 
 using math::cross_force;
-using math::force_to_parent;
+using math::add_force_to_parent;
 
 namespace {
 // s · F for a partial velocity s = (a, 0) (rotation: a·τ) or (0, a) (translation: a·F).
@@ -144,7 +145,7 @@ void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
     detail::for_each_force_element(m, ws, [&](int b, const Vec6<S>& w) { ws.wrench[b] += w; });
     for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
       const Joint& J = m.joints[*it];
-      if (J.parent >= 0) ws.wrench[J.parent] += force_to_parent<S>(ws.wrench[J.child], ws.joint_offset[*it]);
+      if (J.parent >= 0) add_force_to_parent<S>(ws.wrench[J.child], ws.joint_offset[*it], ws.wrench[J.parent]);
     }
     for (const Joint& J : m.joints)
       for (int k = J.u_offset; k < J.u_offset + J.nu; ++k)
@@ -171,6 +172,9 @@ bool solve_accelerations(const Model& m, Workspace<S>& ws) {
   } else if (ws.tree_factor) {
     tree::copy_pattern(m, ws.mass_matrix.data(), n, ws.cholesky.data(), n, [](const S& x) { return x; });
     if (!tree::factor(m, ws.cholesky.data(), n)) return false;
+  } else if constexpr (std::is_same_v<S, double>) {
+    if (!math::cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n, ws.inverse_pivots.data()))
+      return false;
   } else {
     if (!math::cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n)) return false;
   }
@@ -193,6 +197,8 @@ void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x) {
       for (int k = 0; k < n; ++k) x[i].subtract_tangents(ws.mass_matrix(i, k), x0[k]);
     math::cholesky_solve_with_value_factor(U, n, n, x);
     for (int i = 0; i < n; ++i) x[i].v = x0[i];
+  } else if constexpr (std::is_same_v<S, double>) {
+    math::cholesky_solve(ws.cholesky.data(), n, n, ws.inverse_pivots.data(), x);
   } else {
     math::cholesky_solve(ws.cholesky.data(), n, n, x);
   }

@@ -43,6 +43,7 @@ Workspace<S>::Workspace(const Model& m)
       mass_matrix(m.nu, m.nu),
       forcing(m.nu),
       cholesky(m.nu, m.nu),
+      inverse_pivots(static_cast<std::size_t>(m.nu)),
       value_factor(m.nu, m.nu),
       value_solution(m.nu),
       udot(m.nu),

@@ -115,6 +115,7 @@ struct Workspace {
   VecX<S> forcing;                 // nu
   MatX<S> cholesky;                // nu×nu: upper triangle = U, mass_matrix = Uᵀ U (U = Lᵀ), or
                                    //        the tree factor LᵀDL (tree_factor)
+  std::vector<double> inverse_pivots;  // nu: 1/U(j, j) of the dense factor on double (its solve)
   // Multi-tangent scalars: the factor of M's value (as cholesky) and one value solve;
   // the tangents are solved with it (apply_mass_inverse).
   Eigen::MatrixXd value_factor;    // nu×nu
