@@ -122,27 +122,31 @@ void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
 }
 
 template <class S>
+void compute_body_wrenches(const Model& m, Workspace<S>& ws) {
+  // Applied minus inertial wrench of each body at its Q: gravity m g at the mass center
+  // (moment h × g), then −(I A₀ + V ×* I V).
+  const Vec3<S> g = ws.gravity;
+  for (int b = 0; b < m.nbody(); ++b) {
+    const SpatialInertia<S>& I = ws.spatial_inertia[b];
+    const Vec3<S> w = ws.velocity[b].template head<3>(), v = ws.velocity[b].template tail<3>();
+    const Vec3<S> al = ws.bias_acceleration[b].template head<3>(), a = ws.bias_acceleration[b].template tail<3>();
+    // Momentum I V = (L, p), then (τ, F) = (h × g, m g) − I A − V ×* (L, p), with
+    // V ×* (L, p) = (ω × L + v × p, ω × p).
+    const Vec3<S> L = I.I * w + I.h.cross(v);
+    const Vec3<S> p = I.m * v - I.h.cross(w);
+    Vec6<S>& W = ws.wrench[b];
+    W.template head<3>() = I.h.cross(g - a) - I.I * al - w.cross(L) - v.cross(p);
+    W.template tail<3>() = I.m * (g - a) + I.h.cross(al) - w.cross(p);
+  }
+  detail::for_each_force_element(m, ws, [&](int b, const Vec6<S>& w) { ws.wrench[b] += w; });
+}
+
+template <class S>
 void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
   if (m.evaluate_planar()) {
     detail::compute_forcing_planar(m, ws);
   } else {
-    const int nb = m.nbody();
-    // Applied minus inertial wrench of each body at its Q: gravity m g at the mass center
-    // (moment h × g), then −(I A₀ + V ×* I V).
-    const Vec3<S> g = ws.gravity;
-    for (int b = 0; b < nb; ++b) {
-      const SpatialInertia<S>& I = ws.spatial_inertia[b];
-      const Vec3<S> w = ws.velocity[b].template head<3>(), v = ws.velocity[b].template tail<3>();
-      const Vec3<S> al = ws.bias_acceleration[b].template head<3>(), a = ws.bias_acceleration[b].template tail<3>();
-      // Momentum I V = (L, p), then (τ, F) = (h × g, m g) − I A − V ×* (L, p), with
-      // V ×* (L, p) = (ω × L + v × p, ω × p).
-      const Vec3<S> L = I.I * w + I.h.cross(v);
-      const Vec3<S> p = I.m * v - I.h.cross(w);
-      Vec6<S>& W = ws.wrench[b];
-      W.template head<3>() = I.h.cross(g - a) - I.I * al - w.cross(L) - v.cross(p);
-      W.template tail<3>() = I.m * (g - a) + I.h.cross(al) - w.cross(p);
-    }
-    detail::for_each_force_element(m, ws, [&](int b, const Vec6<S>& w) { ws.wrench[b] += w; });
+    compute_body_wrenches(m, ws);
     for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
       const Joint& J = m.joints[*it];
       if (J.parent >= 0) add_force_to_parent<S>(ws.wrench[J.child], ws.joint_offset[*it], ws.wrench[J.parent]);
@@ -263,9 +267,26 @@ bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* y
                   RhsFailure* failure) {
   const S* q = y;
   const S* u = y + m.nq;
+  RhsFailure why = RhsFailure::none;
+  if constexpr (std::is_same_v<S, double>) {
+    if (ws.articulated_body && !m.evaluate_planar()) {
+      // u̇ by the articulated-body algorithm: no M, no f (ws.forcing keeps the joints' own forces).
+      evaluate_state_expressions(m, ws, t, q, u);
+      compute_position(m, ws, q);
+      compute_velocity(m, ws, u);
+      compute_body_wrenches(m, ws);
+      ws.forcing.setZero();
+      detail::add_joint_spring_dampers(m, ws, q, u);
+      compute_kinematic_derivatives(m, ws, q, u);
+      if (!articulated_body_accelerations(m, ws)) why = RhsFailure::mass_matrix_not_positive_definite;
+      for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
+      for (int i = 0; i < m.nu; ++i) ydot[m.nq + i] = ws.udot[i];
+      if (failure) *failure = why;
+      return why == RhsFailure::none;
+    }
+  }
   evaluate_mass_matrix_and_forcing(m, ws, t, q, u);
   compute_kinematic_derivatives(m, ws, q, u);
-  RhsFailure why = RhsFailure::none;
   if (!solve_accelerations(m, ws)) {
     why = RhsFailure::mass_matrix_not_positive_definite;
   } else if (m.nconstraint_rows > 0) {
@@ -318,6 +339,7 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
 
 #define KANESENS_INSTANTIATE(S)                                                                 \
   template void compute_mass_matrix<S>(const Model&, Workspace<S>&);                            \
+  template void compute_body_wrenches<S>(const Model&, Workspace<S>&);                          \
   template void compute_forcing<S>(const Model&, Workspace<S>&, const S*, const S*);            \
   template bool solve_accelerations<S>(const Model&, Workspace<S>&);                            \
   template void apply_mass_inverse<S>(const Model&, Workspace<S>&, S*);                         \
