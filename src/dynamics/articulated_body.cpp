@@ -15,39 +15,56 @@
 namespace kanesens::dynamics {
 
 namespace {
-using M3 = Eigen::Matrix3d;
 using M6 = Eigen::Matrix<double, 6, 6>;
 using V6 = Eigen::Matrix<double, 6, 1>;
 
 // parent += Xᵀ I X, X the shift of motion vectors from Q_P to Q_C = Q_P + r: an articulated
 // inertia at the child's point, seen from the parent's. With I = [A B; Bᵀ C] and R = r×:
 // A' = A − B R − (B R)ᵀ − R C R, B' = B + R C, C' = C. Products with R are cross products
-// (row i of B R is b_i × r, column j of R C is r × c_j): two thirds of a 3×3 product's work.
+// (row i of B R is b_i × r, column j of R C is r × c_j), formed in scalars: 3×3 temporaries
+// written by rows and read by columns stall store-to-load forwarding.
 void add_inertia_to_parent(const M6& I, const Eigen::Vector3d& r, M6& parent) {
-  M3 BR, RC, RCR;
+  const double r0 = r[0], r1 = r[1], r2 = r[2];
+  double BR[3][3], RC[3][3], RCR[3][3];
   for (int i = 0; i < 3; ++i) {
-    const Eigen::Vector3d b = I.block<1, 3>(i, 3).transpose();
-    BR.row(i) = b.cross(r).transpose();
-    RC.col(i) = r.cross(I.block<3, 1>(3, 3 + i));
+    const double b0 = I(i, 3), b1 = I(i, 4), b2 = I(i, 5);
+    BR[i][0] = b1 * r2 - b2 * r1;
+    BR[i][1] = b2 * r0 - b0 * r2;
+    BR[i][2] = b0 * r1 - b1 * r0;
+    const double c0 = I(3, 3 + i), c1 = I(4, 3 + i), c2 = I(5, 3 + i);
+    RC[0][i] = r1 * c2 - r2 * c1;
+    RC[1][i] = r2 * c0 - r0 * c2;
+    RC[2][i] = r0 * c1 - r1 * c0;
   }
-  for (int i = 0; i < 3; ++i) RCR.row(i) = RC.row(i).transpose().cross(r).transpose();
-  const M3 B2 = I.topRightCorner<3, 3>() + RC;
-  parent.topLeftCorner<3, 3>() += I.topLeftCorner<3, 3>() - BR - BR.transpose() - RCR;
-  parent.topRightCorner<3, 3>() += B2;
-  parent.bottomLeftCorner<3, 3>() += B2.transpose();
-  parent.bottomRightCorner<3, 3>() += I.bottomRightCorner<3, 3>();
+  for (int i = 0; i < 3; ++i) {
+    RCR[i][0] = RC[i][1] * r2 - RC[i][2] * r1;
+    RCR[i][1] = RC[i][2] * r0 - RC[i][0] * r2;
+    RCR[i][2] = RC[i][0] * r1 - RC[i][1] * r0;
+  }
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      parent(i, j) += I(i, j) - BR[i][j] - BR[j][i] - RCR[i][j];
+      const double b = I(i, 3 + j) + RC[i][j];
+      parent(i, 3 + j) += b;
+      parent(3 + j, i) += b;
+      parent(3 + i, 3 + j) += I(3 + i, 3 + j);
+    }
 }
 }  // namespace
 
 bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
   for (int b = 0; b < m.nbody(); ++b) {
-    const SpatialInertia<double>& I = ws.spatial_inertia[b];  // [I h×; −h× m1]
+    const SpatialInertia<double>& I = ws.spatial_inertia[b];  // [I h×; −h× m1], in scalars
     M6& IA = ws.articulated_inertia[b];
-    const M3 H = math::skew<double>(I.h);
-    IA.topLeftCorner<3, 3>() = I.I;
-    IA.topRightCorner<3, 3>() = H;
-    IA.bottomLeftCorner<3, 3>() = -H;
-    IA.bottomRightCorner<3, 3>() = I.m * M3::Identity();
+    const double h0 = I.h[0], h1 = I.h[1], h2 = I.h[2];
+    const double H[3][3] = {{0, -h2, h1}, {h2, 0, -h0}, {-h1, h0, 0}};
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        IA(i, j) = I.I(i, j);
+        IA(i, 3 + j) = H[i][j];
+        IA(3 + i, j) = -H[i][j];
+        IA(3 + i, 3 + j) = i == j ? I.m : 0.0;
+      }
     ws.articulated_bias[b] = -ws.wrench[b];
   }
   double* x = ws.udot.data();  // u_j = τ_j − S_jᵀ p^A on the way in, u̇ on the way out
@@ -102,10 +119,19 @@ bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
   for (int ji : m.joint_order) {
     const Joint& J = m.joints[ji];
     const int n = J.nu, k0 = J.u_offset;
-    V6& a = ws.articulated_bias[J.child];
-    if (J.parent >= 0) a = math::motion_to_child<double>(ws.articulated_bias[J.parent], ws.joint_offset[ji]);
-    else a.setZero();
-    if (n == 0) continue;
+    // Formed in a local (stored once at the end): a vector written in pieces and read back in
+    // pairs stalls store-to-load forwarding.
+    V6 a = V6::Zero();
+    if (J.parent >= 0) {  // motion_to_child: (ω̇, a + ω̇ × r)
+      const V6& ap = ws.articulated_bias[J.parent];
+      const Eigen::Vector3d& r = ws.joint_offset[ji];
+      a << ap[0], ap[1], ap[2], ap[3] + (ap[1] * r[2] - ap[2] * r[1]), ap[4] + (ap[2] * r[0] - ap[0] * r[2]),
+          ap[5] + (ap[0] * r[1] - ap[1] * r[0]);
+    }
+    if (n == 0) {
+      ws.articulated_bias[J.child] = a;
+      continue;
+    }
     double r[6];
     for (int c = 0; c < n; ++c) r[c] = x[k0 + c] - ws.articulated_columns[k0 + c].dot(a);
     const M6& Dinv = ws.joint_inverse[ji];
@@ -118,6 +144,7 @@ bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
       if (m.speed_rotation[k0 + c]) a.head<3>() += ws.partial[k0 + c].head<3>() * x[k0 + c];
       else a.tail<3>() += ws.partial[k0 + c].tail<3>() * x[k0 + c];
     }
+    ws.articulated_bias[J.child] = a;
   }
   return true;
 }
