@@ -1,6 +1,7 @@
 // `kanesens bench rhs SCENE [--repeat N] [--json]`: how long one evaluation of Kane's equations
 // takes at a random fixed state (seeded, so runs are comparable):
-//   rhs       evaluate_rhs on double: M, f, Cholesky solve, q̇          (what CVODES calls)
+//   rhs       evaluate_rhs on double: M, f, Cholesky solve, q̇ (what CVODES calls; long
+//             unconstrained 3-D chains: the articulated-body recursion instead of M)
 //   mf        evaluate_mass_matrix_and_forcing on double: M and f alone
 //   jacobian_dual  the exact Jacobian ∂ẏ/∂y column by column: nq + nu evaluate_rhs on Dual
 //   jacobian       the exact Jacobian as the solvers get it (KaneProblem::jacobian): columns in
@@ -201,6 +202,7 @@ int run_bench_rhs(const BenchOptions& o) {
     j.key("nu").value(m.nu);
     j.key("planar_scene").value(m.planar);
     j.key("path").value(m.evaluate_planar() ? "planar" : "3d");
+    j.key("rhs_algorithm").value(ws.articulated_body ? "articulated_body" : "mass_matrix");
     j.key("seed").value(static_cast<long long>(o.seed));
     j.key("repeat").value(o.repeat);
     j.key("jacobian_method").value(jacobian_method);
