@@ -169,7 +169,7 @@ struct Workspace {
 
 // The fewest speeds of a chain for which the articulated-body algorithm beats forming and
 // factoring M on double (`kanesens bench rhs` on the spatial chains of docs/benchmarks.md).
-inline constexpr int kArticulatedBodyMinSpeeds = 24;
+inline constexpr int kArticulatedBodyMinSpeeds = 28;
 
 // Turns the articulated-body evaluation on (sizing its arrays) or off; it stays off on a model
 // with constraints (their multipliers need M's factor).

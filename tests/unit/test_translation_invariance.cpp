@@ -224,7 +224,7 @@ Scene free_body() {
 Scene long_chain() {
   Scene s;
   s.name = "long_chain";
-  s.conditioning = 10;  // cond(M) ≈ 5·10⁴ (a 26-link spatial chain of rods)
+  s.conditioning = 30;  // cond(M) ≈ 6·10⁴ for a 30-link spatial chain of rods
   s.text = [](const Placement& p) {
     const int n = dynamics::kArticulatedBodyMinSpeeds + 2;
     // Appended piece by piece (GCC 12 warns falsely on chains of string operator+).
