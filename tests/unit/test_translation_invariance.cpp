@@ -474,6 +474,15 @@ void print(const std::string& scene, const std::string& what, const Changes& c) 
               c.sens);
 }
 
+// Every change within tol × the scene's conditioning.
+void expect_within(const Scene& s, const Changes& c, double tol, const std::string& what) {
+  tol *= s.conditioning;
+  EXPECT_LE(c.udot, tol) << s.name << " " << what;
+  EXPECT_LE(c.lambda, tol) << s.name << " " << what;
+  EXPECT_LE(c.energy, tol) << s.name << " " << what;
+  EXPECT_LE(c.sens, tol) << s.name << " " << what;
+}
+
 class Invariance : public ::testing::TestWithParam<int> {};
 
 TEST_P(Invariance, MovedScene) {
@@ -484,11 +493,7 @@ TEST_P(Invariance, MovedScene) {
     p.o = L * dir;
     const Changes c = changes(s, p);
     print(s.name, "moved " + num(L) + " m", c);
-    const double tol = (L <= 100 ? 1e-12 : L <= 1e4 ? 1e-11 : 1e-10) * s.conditioning;
-    EXPECT_LE(c.udot, tol) << s.name << " moved " << L;
-    EXPECT_LE(c.lambda, tol) << s.name << " moved " << L;
-    EXPECT_LE(c.energy, tol) << s.name << " moved " << L;
-    EXPECT_LE(c.sens, tol) << s.name << " moved " << L;
+    expect_within(s, c, L <= 100 ? 1e-12 : L <= 1e4 ? 1e-11 : 1e-10, "moved " + num(L));
   }
 }
 
@@ -499,11 +504,7 @@ TEST_P(Invariance, TurnedScene) {
   p.R = turn();
   const Changes c = changes(s, p);
   print(s.name, "turned", c);
-  const double tol = 1e-12 * s.conditioning;
-  EXPECT_LE(c.udot, tol) << s.name;
-  EXPECT_LE(c.lambda, tol) << s.name;
-  EXPECT_LE(c.energy, tol) << s.name;
-  EXPECT_LE(c.sens, tol) << s.name;
+  expect_within(s, c, 1e-12, "turned");
 }
 
 // A move of 1 000 km in a turned scene (against the turned scene: the rotation is the test above).
@@ -517,11 +518,7 @@ TEST_P(Invariance, TurnedAndMovedFar) {
   p.o = Vector3d(-310000, 770000, 500000);
   const Changes c = changes(s, p, ref);
   print(s.name, "turned, moved 1e6 m", c);
-  const double tol = 1e-10 * s.conditioning;
-  EXPECT_LE(c.udot, tol) << s.name;
-  EXPECT_LE(c.lambda, tol) << s.name;
-  EXPECT_LE(c.energy, tol) << s.name;
-  EXPECT_LE(c.sens, tol) << s.name;
+  expect_within(s, c, 1e-10, "turned, moved 1e6 m");
 }
 
 TEST(InvarianceScenes, LongChainTakesTheArticulatedBodyRecursion) {
