@@ -116,6 +116,10 @@ def jacobian_cost():
     return driver_table("jacobian_cost", "jacobian_cost.json")
 
 
+def articulated_crossover():
+    return driver_table("articulated_crossover", "articulated_crossover.json")
+
+
 def sensitivity_cost():
     return driver_table("sensitivity_cost", "sensitivity_cost.json")
 
@@ -812,6 +816,7 @@ def _ratio_from_cell(cell: str):
 
 TABLES = {
     "rhs_mujoco": rhs_mujoco, "rhs_paths": rhs_paths, "jacobian_cost": jacobian_cost,
+    "articulated_crossover": articulated_crossover,
     "sensitivity_cost": sensitivity_cost, "sensitivity_cost_few": sensitivity_cost_few,
     "sensitivity_cost_few_constrained": sensitivity_cost_few_constrained,
     "sensitivity_cost_jacobian": sensitivity_cost_jacobian, "jacobian_cost_arch": jacobian_cost_arch,

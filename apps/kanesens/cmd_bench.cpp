@@ -1,6 +1,7 @@
 // `kanesens bench rhs SCENE [--repeat N] [--json]`: how long one evaluation of Kane's equations
 // takes at a random fixed state (seeded, so runs are comparable):
-//   rhs       evaluate_rhs on double: M, f, Cholesky solve, q̇          (what CVODES calls)
+//   rhs       evaluate_rhs on double: M, f, Cholesky solve, q̇ (what CVODES calls; long
+//             unconstrained 3-D chains: the articulated-body recursion instead of M)
 //   mf        evaluate_mass_matrix_and_forcing on double: M and f alone
 //   jacobian_dual  the exact Jacobian ∂ẏ/∂y column by column: nq + nu evaluate_rhs on Dual
 //   jacobian       the exact Jacobian as the solvers get it (KaneProblem::jacobian): columns in
@@ -47,6 +48,7 @@ struct BenchOptions {
   bool json = false;
   bool general_3d = false;  // evaluate a planar scene with the 3-D code (Model::force_general_3d)
   long long profile = 0;  // > 0: exactly this many untimed evaluations of each kind (profilers)
+  std::string rhs_algorithm = "auto";  // auto (the workspace's choice), mass_matrix, articulated_body
 };
 
 struct Timing {
@@ -109,6 +111,13 @@ int run_bench_rhs(const BenchOptions& o) {
   const int n = m.nstate();
 
   Workspace<double> ws(m);
+  if (o.rhs_algorithm != "auto") {
+    dynamics::set_articulated_body(m, ws, o.rhs_algorithm == "articulated_body");
+    if (o.rhs_algorithm == "articulated_body" && (!ws.articulated_body || m.evaluate_planar()))
+      throw InputError({}, "--rhs-algorithm",
+                       "articulated_body needs a scene without constraints, evaluated in 3-D (add --general-3d to a "
+                       "planar one)");
+  }
   set_parameters(m, ws, p.data());
   std::vector<double> ydot(n);
   double sink = 0;
@@ -201,6 +210,7 @@ int run_bench_rhs(const BenchOptions& o) {
     j.key("nu").value(m.nu);
     j.key("planar_scene").value(m.planar);
     j.key("path").value(m.evaluate_planar() ? "planar" : "3d");
+    j.key("rhs_algorithm").value(ws.articulated_body && !m.evaluate_planar() ? "articulated_body" : "mass_matrix");
     j.key("seed").value(static_cast<long long>(o.seed));
     j.key("repeat").value(o.repeat);
     j.key("jacobian_method").value(jacobian_method);
@@ -253,6 +263,10 @@ CLI::App* add_bench(CLI::App& app, Action& action) {
   rhs->add_option("--profile", o->profile,
                   "Run exactly N untimed evaluations of each kind (for callgrind: instructions / N)")
       ->check(integer_in(0, 1LL << 40));
+  rhs->add_option("--rhs-algorithm", o->rhs_algorithm,
+                  "How `rhs` finds u̇: auto (articulated_body for unconstrained 3-D chains of 28 or more "
+                  "speeds, else mass_matrix), mass_matrix (M and its factor) or articulated_body")
+      ->check(CLI::IsMember({"auto", "mass_matrix", "articulated_body"}));
   rhs->callback([&action, o] { action = [o] { return run_bench_rhs(*o); }; });
   return cmd;
 }

@@ -36,6 +36,7 @@ int run_eom(const EomOptions& o) {
                                     [&] { std::string s; for (auto& n : m.speed_names) s += (s.empty() ? "" : ", ") + n; return s; }() +
                                     "), found " + std::to_string(u.size()));
   Workspace<double> ws(m);
+  set_articulated_body(m, ws, false);  // M and f are printed
   const std::vector<double> p = m.nominal_parameters();
   set_parameters(m, ws, p.data());
   std::vector<double> y(q);

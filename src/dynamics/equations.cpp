@@ -1,5 +1,6 @@
 // Dynamics stage of Kane's equations: mass matrix, forcing, energies, the solve for u̇.
 #include <cmath>
+#include <type_traits>
 
 #include "math/dual.hpp"
 #include "math/dual2.hpp"
@@ -14,7 +15,7 @@
 namespace kanesens::dynamics {
 
 using math::cross_force;
-using math::force_to_parent;
+using math::add_force_to_parent;
 
 namespace {
 // s · F for a partial velocity s = (a, 0) (rotation: a·τ) or (0, a) (translation: a·F).
@@ -121,30 +122,34 @@ void compute_mass_matrix(const Model& m, Workspace<S>& ws) {
 }
 
 template <class S>
+void compute_body_wrenches(const Model& m, Workspace<S>& ws) {
+  // Applied minus inertial wrench of each body at its Q: gravity m g at the mass center
+  // (moment h × g), then −(I A₀ + V ×* I V).
+  const Vec3<S> g = ws.gravity;
+  for (int b = 0; b < m.nbody(); ++b) {
+    const SpatialInertia<S>& I = ws.spatial_inertia[b];
+    const Vec3<S> w = ws.velocity[b].template head<3>(), v = ws.velocity[b].template tail<3>();
+    const Vec3<S> al = ws.bias_acceleration[b].template head<3>(), a = ws.bias_acceleration[b].template tail<3>();
+    // Momentum I V = (L, p), then (τ, F) = (h × g, m g) − I A − V ×* (L, p), with
+    // V ×* (L, p) = (ω × L + v × p, ω × p).
+    const Vec3<S> L = I.I * w + I.h.cross(v);
+    const Vec3<S> p = I.m * v - I.h.cross(w);
+    Vec6<S>& W = ws.wrench[b];
+    W.template head<3>() = I.h.cross(g - a) - I.I * al - w.cross(L) - v.cross(p);
+    W.template tail<3>() = I.m * (g - a) + I.h.cross(al) - w.cross(p);
+  }
+  detail::for_each_force_element(m, ws, [&](int b, const Vec6<S>& w) { ws.wrench[b] += w; });
+}
+
+template <class S>
 void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
   if (m.evaluate_planar()) {
     detail::compute_forcing_planar(m, ws);
   } else {
-    const int nb = m.nbody();
-    // Applied minus inertial wrench of each body at its Q: gravity m g at the mass center
-    // (moment h × g), then −(I A₀ + V ×* I V).
-    const Vec3<S> g = ws.gravity;
-    for (int b = 0; b < nb; ++b) {
-      const SpatialInertia<S>& I = ws.spatial_inertia[b];
-      const Vec3<S> w = ws.velocity[b].template head<3>(), v = ws.velocity[b].template tail<3>();
-      const Vec3<S> al = ws.bias_acceleration[b].template head<3>(), a = ws.bias_acceleration[b].template tail<3>();
-      // Momentum I V = (L, p), then (τ, F) = (h × g, m g) − I A − V ×* (L, p), with
-      // V ×* (L, p) = (ω × L + v × p, ω × p).
-      const Vec3<S> L = I.I * w + I.h.cross(v);
-      const Vec3<S> p = I.m * v - I.h.cross(w);
-      Vec6<S>& W = ws.wrench[b];
-      W.template head<3>() = I.h.cross(g - a) - I.I * al - w.cross(L) - v.cross(p);
-      W.template tail<3>() = I.m * (g - a) + I.h.cross(al) - w.cross(p);
-    }
-    detail::for_each_force_element(m, ws, [&](int b, const Vec6<S>& w) { ws.wrench[b] += w; });
+    compute_body_wrenches(m, ws);
     for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
       const Joint& J = m.joints[*it];
-      if (J.parent >= 0) ws.wrench[J.parent] += force_to_parent<S>(ws.wrench[J.child], ws.joint_offset[*it]);
+      if (J.parent >= 0) add_force_to_parent<S>(ws.wrench[J.child], ws.joint_offset[*it], ws.wrench[J.parent]);
     }
     for (const Joint& J : m.joints)
       for (int k = J.u_offset; k < J.u_offset + J.nu; ++k)
@@ -171,6 +176,9 @@ bool solve_accelerations(const Model& m, Workspace<S>& ws) {
   } else if (ws.tree_factor) {
     tree::copy_pattern(m, ws.mass_matrix.data(), n, ws.cholesky.data(), n, [](const S& x) { return x; });
     if (!tree::factor(m, ws.cholesky.data(), n)) return false;
+  } else if constexpr (std::is_same_v<S, double>) {
+    if (!math::cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n, ws.inverse_pivots.data()))
+      return false;
   } else {
     if (!math::cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n)) return false;
   }
@@ -193,6 +201,8 @@ void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x) {
       for (int k = 0; k < n; ++k) x[i].subtract_tangents(ws.mass_matrix(i, k), x0[k]);
     math::cholesky_solve_with_value_factor(U, n, n, x);
     for (int i = 0; i < n; ++i) x[i].v = x0[i];
+  } else if constexpr (std::is_same_v<S, double>) {
+    math::cholesky_solve(ws.cholesky.data(), n, n, ws.inverse_pivots.data(), x);
   } else {
     math::cholesky_solve(ws.cholesky.data(), n, n, x);
   }
@@ -257,9 +267,26 @@ bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* y
                   RhsFailure* failure) {
   const S* q = y;
   const S* u = y + m.nq;
+  RhsFailure why = RhsFailure::none;
+  if constexpr (std::is_same_v<S, double>) {
+    if (ws.articulated_body && !m.evaluate_planar()) {
+      // u̇ by the articulated-body algorithm: no M, no f (ws.forcing keeps the joints' own forces).
+      evaluate_state_expressions(m, ws, t, q, u);
+      compute_position(m, ws, q);
+      compute_velocity(m, ws, u);
+      compute_body_wrenches(m, ws);
+      ws.forcing.setZero();
+      detail::add_joint_spring_dampers(m, ws, q, u);
+      compute_kinematic_derivatives(m, ws, q, u);
+      if (!articulated_body_accelerations(m, ws)) why = RhsFailure::mass_matrix_not_positive_definite;
+      for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
+      for (int i = 0; i < m.nu; ++i) ydot[m.nq + i] = ws.udot[i];
+      if (failure) *failure = why;
+      return why == RhsFailure::none;
+    }
+  }
   evaluate_mass_matrix_and_forcing(m, ws, t, q, u);
   compute_kinematic_derivatives(m, ws, q, u);
-  RhsFailure why = RhsFailure::none;
   if (!solve_accelerations(m, ws)) {
     why = RhsFailure::mass_matrix_not_positive_definite;
   } else if (m.nconstraint_rows > 0) {
@@ -312,6 +339,7 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
 
 #define KANESENS_INSTANTIATE(S)                                                                 \
   template void compute_mass_matrix<S>(const Model&, Workspace<S>&);                            \
+  template void compute_body_wrenches<S>(const Model&, Workspace<S>&);                          \
   template void compute_forcing<S>(const Model&, Workspace<S>&, const S*, const S*);            \
   template bool solve_accelerations<S>(const Model&, Workspace<S>&);                            \
   template void apply_mass_inverse<S>(const Model&, Workspace<S>&, S*);                         \

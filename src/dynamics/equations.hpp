@@ -8,6 +8,7 @@
 //   compute_mass_matrix       M (nu×nu)
 //   compute_forcing           f (nu): generalized active forces + inertia forces at u̇ = 0
 //   solve_accelerations       u̇ = M⁻¹ f (tree LᵀDL or dense Cholesky)
+//   (or, for long unconstrained chains on double, articulated_body_accelerations: u̇ in O(nu))
 //   compute_kinematic_derivatives  q̇ = N(q) u
 //
 // For speed k of joint j with child body C and joint point Q, the partial angular velocity is
@@ -36,6 +37,10 @@ template <class S>
 void compute_mass_matrix(const Model& m, Workspace<S>& ws);
 template <class S>
 void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u);
+// The first part of compute_forcing (3-D evaluation): each body's applied minus inertial wrench
+// at u̇ = 0, at its Q, in ws.wrench (not yet summed over subtrees).
+template <class S>
+void compute_body_wrenches(const Model& m, Workspace<S>& ws);
 // Returns false if M is not positive definite (a singular configuration or bad inertia).
 template <class S>
 bool solve_accelerations(const Model& m, Workspace<S>& ws);
@@ -51,6 +56,12 @@ template <class S>
 void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x, const int* support, int ns);
 template <class S>
 void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q, const S* u);
+// u̇ of an unconstrained tree by the articulated-body algorithm (Featherstone 2008 §7.3), in
+// O(nu) without forming or factoring M (dynamics/articulated_body.cpp; double). Needs the
+// position and velocity stages, compute_body_wrenches, and the joints' own generalized forces
+// (spring-dampers) in ws.forcing. False if a joint's articulated inertia is not positive
+// definite (M is not). evaluate_rhs uses it when ws.articulated_body.
+bool articulated_body_accelerations(const Model& m, Workspace<double>& ws);
 
 // Constraint rows at (q, u): A, a0-velocity residual, position residual and bias −(Ȧu + ȧ0),
 // minus the Baumgarte terms of `options` (dynamics/constraints.cpp). Needs position, velocity

@@ -43,6 +43,7 @@ Workspace<S>::Workspace(const Model& m)
       mass_matrix(m.nu, m.nu),
       forcing(m.nu),
       cholesky(m.nu, m.nu),
+      inverse_pivots(static_cast<std::size_t>(m.nu)),
       value_factor(m.nu, m.nu),
       value_solution(m.nu),
       udot(m.nu),
@@ -104,8 +105,20 @@ Workspace<S>::Workspace(const Model& m)
   sparse_constraints = tree_factor && mc > 0 &&
                        (2 * constraint_sparsity.envelope_entries < mc * (mc + 1) / 2 ||
                         2 * constraint_sparsity.support_entries < mc * n);
+  if constexpr (std::is_same_v<S, double>)
+    if (mass_matrix_full && m.nconstraint_rows == 0 && !m.evaluate_planar() && m.nu >= kArticulatedBodyMinSpeeds)
+      set_articulated_body(m, *this, true);
   mass_matrix.setZero();
   constraint_matrix.setZero();
+}
+
+void set_articulated_body(const Model& m, Workspace<double>& ws, bool on) {
+  ws.articulated_body = on && m.nconstraint_rows == 0;
+  if (!ws.articulated_body) return;
+  ws.articulated_inertia.resize(static_cast<std::size_t>(m.nbody()));
+  ws.articulated_bias.resize(static_cast<std::size_t>(m.nbody()));
+  ws.articulated_columns.resize(static_cast<std::size_t>(m.nu));
+  ws.joint_inverse.assign(m.joints.size(), Mat6<double>::Zero());
 }
 
 namespace {

@@ -115,6 +115,17 @@ struct Workspace {
   VecX<S> forcing;                 // nu
   MatX<S> cholesky;                // nu×nu: upper triangle = U, mass_matrix = Uᵀ U (U = Lᵀ), or
                                    //        the tree factor LᵀDL (tree_factor)
+  std::vector<double> inverse_pivots;  // nu: 1/U(j, j) of the dense factor on double (its solve)
+  // evaluate_rhs on double finds u̇ by the articulated-body algorithm (articulated_body_accelerations)
+  // instead of M and its factor: set by the constructor for unconstrained chains of at least
+  // kArticulatedBodyMinSpeeds speeds evaluated in 3-D, where it is the faster. M, its factor and f
+  // are then not formed by evaluate_rhs (evaluate_mass_matrix_and_forcing still forms them);
+  // callers that read them after evaluate_rhs turn it off (set_articulated_body).
+  bool articulated_body = false;
+  std::vector<Mat6<S>> articulated_inertia;  // nb: I^A at Q_b (sized only when articulated_body)
+  std::vector<Vec6<S>> articulated_bias;     // nb: p^A at Q_b, then the acceleration less the bias
+  std::vector<Vec6<S>> articulated_columns;  // nu: U_k = I^A s_k
+  std::vector<Mat6<S>> joint_inverse;        // nj: (Sᵀ I^A S)⁻¹ in the leading nu_j × nu_j block
   // Multi-tangent scalars: the factor of M's value (as cholesky) and one value solve;
   // the tangents are solved with it (apply_mass_inverse).
   Eigen::MatrixXd value_factor;    // nu×nu
@@ -155,6 +166,14 @@ struct Workspace {
   std::vector<PVec<S>> velocity_planar, bias_planar, wrench_planar;  // nb
   std::vector<Vec6<S>> prefix;  // ≤ 7: a joint's V_P + Σ_{c<k} s_c u_c (carried frames' velocity)
 };
+
+// The fewest speeds of a chain for which the articulated-body algorithm beats forming and
+// factoring M on double (`kanesens bench rhs` on the spatial chains of docs/benchmarks.md).
+inline constexpr int kArticulatedBodyMinSpeeds = 28;
+
+// Turns the articulated-body evaluation on (sizing its arrays) or off; it stays off on a model
+// with constraints (their multipliers need M's factor).
+void set_articulated_body(const Model& model, Workspace<double>& ws, bool on);
 
 // Evaluates parameter-only expressions and the derived per-body/per-joint constants.
 template <class S>

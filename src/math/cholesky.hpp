@@ -84,8 +84,9 @@ EIGEN_ALWAYS_INLINE void dots2(const double* a0, const double* a1, const double*
 }
 
 // Rows j and j + 1 of U (double): the 2×2 diagonal block, then C columns at a time with dots2.
-// False if a pivot is not positive.
-inline bool cholesky_two_rows(const double* A, std::ptrdiff_t lda, double* U, std::ptrdiff_t ldu, int n, int j) {
+// False if a pivot is not positive. inverse_pivots (if not null) gets 1/U(j, j), 1/U(j+1, j+1).
+inline bool cholesky_two_rows(const double* A, std::ptrdiff_t lda, double* U, std::ptrdiff_t ldu, int n, int j,
+                              double* inverse_pivots) {
   double* U0 = U + j * ldu;
   double* U1 = U0 + ldu;
   double s[2];
@@ -102,6 +103,10 @@ inline bool cholesky_two_rows(const double* A, std::ptrdiff_t lda, double* U, st
   if (!(d1 > 0)) return false;
   U1[j + 1] = std::sqrt(d1);
   const double inv1 = 1.0 / U1[j + 1];
+  if (inverse_pivots) {
+    inverse_pivots[j] = inv0;
+    inverse_pivots[j + 1] = inv1;
+  }
   const double u01 = U1[j];
   auto finish = [&](int i, int C, const double* s0, const double* s1) {
     for (int c = 0; c < C; ++c) {
@@ -127,19 +132,16 @@ inline bool cholesky_two_rows(const double* A, std::ptrdiff_t lda, double* U, st
   }
   return true;
 }
-}  // namespace detail
 
-// Reads the upper triangle of the n×n matrix A (leading dimension lda) and writes U into the
-// upper triangle of U (ldu); U may be A. False if A is not positive definite (a pivot ≤ 0).
+// Rows of U one at a time (every scalar; on double after the pairs, the last row of an odd n).
 template <class S>
-bool cholesky_factor(const S* A, std::ptrdiff_t lda, S* U, std::ptrdiff_t ldu, int n) {
-  using detail::dot;
+bool cholesky_factor(const S* A, std::ptrdiff_t lda, S* U, std::ptrdiff_t ldu, int n, double* inverse_pivots) {
   using std::sqrt;
   int j0 = 0;
   if constexpr (std::is_same_v<S, double>) {
     // Two rows at a time: each column's entries of both rows from one sweep of the column.
     for (; j0 + 2 <= n; j0 += 2)
-      if (!detail::cholesky_two_rows(A, lda, U, ldu, n, j0)) return false;
+      if (!cholesky_two_rows(A, lda, U, ldu, n, j0, inverse_pivots)) return false;
   }
   for (int j = j0; j < n; ++j) {  // every row on other scalars; on double the last of an odd n
     S* Uj = U + j * ldu;
@@ -147,12 +149,30 @@ bool cholesky_factor(const S* A, std::ptrdiff_t lda, S* U, std::ptrdiff_t ldu, i
     if (!(value_of(d) > 0)) return false;
     Uj[j] = sqrt(d);
     const S inv = S(1) / Uj[j];
+    if constexpr (std::is_same_v<S, double>)
+      if (inverse_pivots) inverse_pivots[j] = inv;
     for (int i = j + 1; i < n; ++i) {
       S* Ui = U + i * ldu;
       Ui[j] = (A[i * lda + j] - dot(Uj, Ui, j)) * inv;
     }
   }
   return true;
+}
+}  // namespace detail
+
+// Reads the upper triangle of the n×n matrix A (leading dimension lda) and writes U into the
+// upper triangle of U (ldu); U may be A. False if A is not positive definite (a pivot ≤ 0).
+template <class S>
+bool cholesky_factor(const S* A, std::ptrdiff_t lda, S* U, std::ptrdiff_t ldu, int n) {
+  return detail::cholesky_factor(A, lda, U, ldu, n, nullptr);
+}
+
+// The same on double, also writing the pivots' reciprocals 1/U(j, j) to inverse_pivots (n), for
+// the solve below: it then multiplies where it would divide, and a division's latency lies on
+// the critical path of each substitution (every unknown waits for the one before).
+inline bool cholesky_factor(const double* A, std::ptrdiff_t lda, double* U, std::ptrdiff_t ldu, int n,
+                            double* inverse_pivots) {
+  return detail::cholesky_factor(A, lda, U, ldu, n, inverse_pivots);
 }
 
 // x ← (Uᵀ U)⁻¹ x: Uᵀ y = x by dot products down the columns, then U x = y by column axpys.
@@ -184,6 +204,22 @@ void cholesky_solve(const S* U, std::ptrdiff_t ldu, int n, S* x) {
     x[i] /= Ui[i];
     const S xi = x[i];
     Eigen::Map<V>(x, i) -= xi * Eigen::Map<const V>(Ui, i);
+  }
+}
+
+// x ← (Uᵀ U)⁻¹ x on double with the reciprocal pivots of cholesky_factor (the same sums; each
+// quotient a product with the reciprocal).
+inline void cholesky_solve(const double* U, std::ptrdiff_t ldu, int n, const double* inverse_pivots, double* x) {
+  for (int i = 0; i < n; ++i) {
+    double s[1];
+    detail::dots<1>(U + i * ldu, x, 0, i, s);
+    x[i] = (x[i] - s[0]) * inverse_pivots[i];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    const double* Ui = U + i * ldu;
+    const double xi = x[i] * inverse_pivots[i];
+    x[i] = xi;
+    for (int k = 0; k < i; ++k) x[k] -= xi * Ui[k];
   }
 }
 

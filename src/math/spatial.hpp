@@ -126,6 +126,19 @@ Vec6<S> force_to_parent(const Vec6<S>& f, const Vec3<S>& r) {
   return x;
 }
 
+// parent += force_to_parent(f, r), one scalar at a time (the same sums): summing a subtree's
+// wrenches runs this once per joint, each reading the previous one's result, and a Vec6
+// temporary written in halves and read back in pairs stalls the store-to-load forwarding.
+template <class S>
+void add_force_to_parent(const Vec6<S>& f, const Vec3<S>& r, Vec6<S>& parent) {
+  parent[0] += f[0] + (r[1] * f[5] - r[2] * f[4]);
+  parent[1] += f[1] + (r[2] * f[3] - r[0] * f[5]);
+  parent[2] += f[2] + (r[0] * f[4] - r[1] * f[3]);
+  parent[3] += f[3];
+  parent[4] += f[4];
+  parent[5] += f[5];
+}
+
 // Spatial inertia at a reference point A in compact form (Featherstone 2008 §2.13): mass m,
 // first moment h = m (c − A) (c the mass center) and rotational inertia about A,
 // I = I_c + m (|c − A|² 1 − (c − A)(c − A)ᵀ), symmetric; world-aligned components. Sums

@@ -94,6 +94,7 @@ void KaneProblem::validate_initial_state() const {
   const Model& m = model_;
   const std::vector<double>& y0 = initial_.y;
   Workspace<double> ws(m);
+  dynamics::set_articulated_body(m, ws, false);  // M and f are checked below
   dynamics::set_parameters(m, ws, workspaces_.parameters().data());
   std::vector<double> ydot(y0.size());
   dynamics::RhsFailure why = dynamics::RhsFailure::none;

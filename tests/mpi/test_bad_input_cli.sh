@@ -50,6 +50,8 @@ expect_bad check-malformed "malformed.yaml:3:1: malformed YAML" - "$KANESENS" ch
 expect_bad check-missing-file "nope.yaml: cannot open file" - "$KANESENS" check nope.yaml
 expect_bad check-zero-mass "zero_mass_scene.yaml:[0-9]*:[0-9]*: scene.bodies\[1\].mass: body 'rod2': mass must be > 0" - "$KANESENS" check zero_mass_scene.yaml
 expect_bad check-division-by-zero "divzero_scene.yaml:[0-9]*:[0-9]*: scene.parameters.k2: value is not finite" - "$KANESENS" check divzero_scene.yaml
+expect_bad bench-articulated-constrained "--rhs-algorithm: articulated_body needs a scene without constraints" - "$KANESENS" bench rhs "$configs/four_bar.yaml" --rhs-algorithm articulated_body --repeat 1
+expect_bad bench-articulated-planar "--rhs-algorithm: articulated_body needs a scene without constraints, evaluated in 3-D" - "$KANESENS" bench rhs "$configs/double_pendulum.yaml" --rhs-algorithm articulated_body --repeat 1
 expect_bad eom-wrong-q-count "--q: expected 2 coordinates" - "$KANESENS" eom "$configs/double_pendulum.yaml" --q=1 --u=0,0
 expect_bad simulate-typo "typo.yaml:4:[0-9]*: sampling.smaples: unknown key" - "$KANESENS" simulate typo.yaml
 expect_bad simulate-set-nan "--set m2: value must be finite" - "$KANESENS" simulate study.yaml --set m2=nan

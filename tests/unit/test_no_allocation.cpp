@@ -110,6 +110,8 @@ struct Case {
 std::vector<Case> cases() {
   return {{"chain", test_scenes::chain_scene(8)},
           {"chain_tilted", test_scenes::chain_scene(8, 0.1)},
+          // long enough for the articulated-body evaluation on double
+          {"chain_tilted_long", test_scenes::chain_scene(dynamics::kArticulatedBodyMinSpeeds, 0.1)},
           {"spherical", test_scenes::kSphericalScene},
           {"free", test_scenes::kFreeScene},
           {"forces", test_scenes::kForcesScene},
