@@ -268,30 +268,28 @@ bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* y
   const S* q = y;
   const S* u = y + m.nq;
   RhsFailure why = RhsFailure::none;
-  if constexpr (std::is_same_v<S, double>) {
-    if (ws.articulated_body && !m.evaluate_planar()) {
-      // u̇ by the articulated-body algorithm: no M, no f (ws.forcing keeps the joints' own forces).
-      evaluate_state_expressions(m, ws, t, q, u);
-      compute_position(m, ws, q);
-      compute_velocity(m, ws, u);
-      compute_body_wrenches(m, ws);
-      ws.forcing.setZero();
-      detail::add_joint_spring_dampers(m, ws, q, u);
-      compute_kinematic_derivatives(m, ws, q, u);
+  bool articulated = false;
+  if constexpr (std::is_same_v<S, double>) articulated = ws.articulated_body && !m.evaluate_planar();
+  if (articulated) {
+    // u̇ by the articulated-body algorithm: no M, no f (ws.forcing keeps the joints' own forces).
+    evaluate_state_expressions(m, ws, t, q, u);
+    compute_position(m, ws, q);
+    compute_velocity(m, ws, u);
+    compute_body_wrenches(m, ws);
+    ws.forcing.setZero();
+    detail::add_joint_spring_dampers(m, ws, q, u);
+    compute_kinematic_derivatives(m, ws, q, u);
+    if constexpr (std::is_same_v<S, double>)
       if (!articulated_body_accelerations(m, ws)) why = RhsFailure::mass_matrix_not_positive_definite;
-      for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
-      for (int i = 0; i < m.nu; ++i) ydot[m.nq + i] = ws.udot[i];
-      if (failure) *failure = why;
-      return why == RhsFailure::none;
+  } else {
+    evaluate_mass_matrix_and_forcing(m, ws, t, q, u);
+    compute_kinematic_derivatives(m, ws, q, u);
+    if (!solve_accelerations(m, ws)) {
+      why = RhsFailure::mass_matrix_not_positive_definite;
+    } else if (m.nconstraint_rows > 0) {
+      compute_constraints(m, ws, q, u, options);
+      if (!solve_constrained_accelerations(m, ws)) why = RhsFailure::constraints_degenerate;
     }
-  }
-  evaluate_mass_matrix_and_forcing(m, ws, t, q, u);
-  compute_kinematic_derivatives(m, ws, q, u);
-  if (!solve_accelerations(m, ws)) {
-    why = RhsFailure::mass_matrix_not_positive_definite;
-  } else if (m.nconstraint_rows > 0) {
-    compute_constraints(m, ws, q, u, options);
-    if (!solve_constrained_accelerations(m, ws)) why = RhsFailure::constraints_degenerate;
   }
   for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
   for (int i = 0; i < m.nu; ++i) ydot[m.nq + i] = ws.udot[i];
