@@ -113,7 +113,7 @@ int run_bench_rhs(const BenchOptions& o) {
   Workspace<double> ws(m);
   if (o.rhs_algorithm != "auto") {
     dynamics::set_articulated_body(m, ws, o.rhs_algorithm == "articulated_body");
-    if (o.rhs_algorithm == "articulated_body" && (!ws.articulated_body || m.evaluate_planar()))
+    if (o.rhs_algorithm == "articulated_body" && !uses_articulated_body(m, ws))
       throw InputError({}, "--rhs-algorithm",
                        "articulated_body needs a scene without constraints, evaluated in 3-D (add --general-3d to a "
                        "planar one)");
@@ -210,7 +210,7 @@ int run_bench_rhs(const BenchOptions& o) {
     j.key("nu").value(m.nu);
     j.key("planar_scene").value(m.planar);
     j.key("path").value(m.evaluate_planar() ? "planar" : "3d");
-    j.key("rhs_algorithm").value(ws.articulated_body && !m.evaluate_planar() ? "articulated_body" : "mass_matrix");
+    j.key("rhs_algorithm").value(uses_articulated_body(m, ws) ? "articulated_body" : "mass_matrix");
     j.key("seed").value(static_cast<long long>(o.seed));
     j.key("repeat").value(o.repeat);
     j.key("jacobian_method").value(jacobian_method);

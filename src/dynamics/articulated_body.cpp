@@ -54,17 +54,7 @@ void add_inertia_to_parent(const M6& I, const Eigen::Vector3d& r, M6& parent) {
 
 bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
   for (int b = 0; b < m.nbody(); ++b) {
-    const SpatialInertia<double>& I = ws.spatial_inertia[b];  // [I h×; −h× m1], in scalars
-    M6& IA = ws.articulated_inertia[b];
-    const double h0 = I.h[0], h1 = I.h[1], h2 = I.h[2];
-    const double H[3][3] = {{0, -h2, h1}, {h2, 0, -h0}, {-h1, h0, 0}};
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i) {
-        IA(i, j) = I.I(i, j);
-        IA(i, 3 + j) = H[i][j];
-        IA(3 + i, j) = -H[i][j];
-        IA(3 + i, 3 + j) = i == j ? I.m : 0.0;
-      }
+    ws.spatial_inertia[b].to_matrix(ws.articulated_inertia[b]);
     ws.articulated_bias[b] = -ws.wrench[b];
   }
   double* x = ws.udot.data();  // u_j = τ_j − S_jᵀ p^A on the way in, u̇ on the way out
@@ -121,13 +111,8 @@ bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
     const int n = J.nu, k0 = J.u_offset;
     // Formed in a local (stored once at the end): a vector written in pieces and read back in
     // pairs stalls store-to-load forwarding.
-    V6 a = V6::Zero();
-    if (J.parent >= 0) {  // motion_to_child: (ω̇, a + ω̇ × r)
-      const V6& ap = ws.articulated_bias[J.parent];
-      const Eigen::Vector3d& r = ws.joint_offset[ji];
-      a << ap[0], ap[1], ap[2], ap[3] + (ap[1] * r[2] - ap[2] * r[1]), ap[4] + (ap[2] * r[0] - ap[0] * r[2]),
-          ap[5] + (ap[0] * r[1] - ap[1] * r[0]);
-    }
+    V6 a = J.parent >= 0 ? math::motion_to_child<double>(ws.articulated_bias[J.parent], ws.joint_offset[ji])
+                         : V6::Zero().eval();
     if (n == 0) {
       ws.articulated_bias[J.child] = a;
       continue;

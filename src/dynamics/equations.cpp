@@ -269,7 +269,7 @@ bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* y
   const S* u = y + m.nq;
   RhsFailure why = RhsFailure::none;
   bool articulated = false;
-  if constexpr (std::is_same_v<S, double>) articulated = ws.articulated_body && !m.evaluate_planar();
+  if constexpr (std::is_same_v<S, double>) articulated = uses_articulated_body(m, ws);
   if (articulated) {
     // u̇ by the articulated-body algorithm: no M, no f (ws.forcing keeps the joints' own forces).
     evaluate_state_expressions(m, ws, t, q, u);

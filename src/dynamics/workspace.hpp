@@ -174,6 +174,11 @@ inline constexpr int kArticulatedBodyMinSpeeds = 28;
 // Turns the articulated-body evaluation on (sizing its arrays) or off; it stays off on a model
 // with constraints (their multipliers need M's factor).
 void set_articulated_body(const Model& model, Workspace<double>& ws, bool on);
+// Whether evaluate_rhs finds u̇ by the articulated-body recursion (turned on, and the model is
+// evaluated in 3-D: a planar evaluation has no spatial quantities to run it on).
+inline bool uses_articulated_body(const Model& model, const Workspace<double>& ws) {
+  return ws.articulated_body && !model.evaluate_planar();
+}
 
 // Evaluates parameter-only expressions and the derived per-body/per-joint constants.
 template <class S>

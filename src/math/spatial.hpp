@@ -109,11 +109,13 @@ Vec6<S> cross_force(const Vec6<S>& m, const Vec6<S>& f) {
 }
 
 // A motion vector at A moved to B = A + r: (ω, v + ω × r).
+// Formed in scalars (the same sums as m.tail + m.head × r): a vector written in halves and read
+// back in pairs stalls store-to-load forwarding, and a chain of bodies reads each result next.
 template <class S>
 Vec6<S> motion_to_child(const Vec6<S>& m, const Vec3<S>& r) {
   Vec6<S> x;
-  x.template head<3>() = m.template head<3>();
-  x.template tail<3>() = m.template tail<3>() + m.template head<3>().cross(r);
+  x << m[0], m[1], m[2], m[3] + (m[1] * r[2] - m[2] * r[1]), m[4] + (m[2] * r[0] - m[0] * r[2]),
+      m[5] + (m[0] * r[1] - m[1] * r[0]);
   return x;
 }
 
@@ -192,11 +194,22 @@ struct SpatialInertia {
         if (j != i) parent.I(j, i) += x;
       }
   }
-  Mat6<S> matrix() const {  // the 6×6 form (tests)
-    const Mat3<S> H = skew<S>(h);
+  Mat6<S> matrix() const {  // the 6×6 form [I h×; −h× m1]
     Mat6<S> M;
-    M << I, H, -H, m * Mat3<S>::Identity();
+    to_matrix(M);
     return M;
+  }
+  // The same into M, entry by entry (no 3×3 temporaries to copy: the articulated-body sweep
+  // starts from it for every body).
+  void to_matrix(Mat6<S>& M) const {
+    const S H[3][3] = {{S(0), -h[2], h[1]}, {h[2], S(0), -h[0]}, {-h[1], h[0], S(0)}};
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        M(i, j) = I(i, j);
+        M(i, 3 + j) = H[i][j];
+        M(3 + i, j) = -H[i][j];
+        M(3 + i, 3 + j) = i == j ? m : S(0);
+      }
   }
 };
 
