@@ -264,8 +264,9 @@ CLI::App* add_bench(CLI::App& app, Action& action) {
                   "Run exactly N untimed evaluations of each kind (for callgrind: instructions / N)")
       ->check(integer_in(0, 1LL << 40));
   rhs->add_option("--rhs-algorithm", o->rhs_algorithm,
-                  "How `rhs` finds u̇: auto (articulated_body for unconstrained 3-D chains of 28 or more "
-                  "speeds, else mass_matrix), mass_matrix (M and its factor) or articulated_body")
+                  "How `rhs` finds u̇: auto (articulated_body for unconstrained 3-D chains of one-speed joints "
+                  "or of 28 or more speeds, else mass_matrix), mass_matrix (M and its factor) or "
+                  "articulated_body")
       ->check(CLI::IsMember({"auto", "mass_matrix", "articulated_body"}));
   rhs->callback([&action, o] { action = [o] { return run_bench_rhs(*o); }; });
   return cmd;

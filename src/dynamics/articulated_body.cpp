@@ -6,8 +6,12 @@
 // The unknowns are the bodies' accelerations less their bias accelerations (compute_velocity's,
 // at u̇ = 0): δa_C = δa_P carried to Q_C + Σ_k s_k u̇_k. The textbook's velocity-product terms are
 // then already in the bias, and each body's bias force is p_b = −W_b, its applied minus inertial
-// wrench at u̇ = 0 (compute_body_wrenches). Three sweeps of O(1) work per joint: for a long chain
-// this is cheaper than forming M (O(nu²)) and factoring it (O(nu³)).
+// wrench at u̇ = 0 (compute_body_wrenches). Three sweeps of O(1) work per joint: for a chain this
+// is cheaper than forming M (O(nu²)) and factoring it (O(nu³)).
+//
+// Inertias are kept as their 21 distinct entries and every product is written in scalars: the
+// sweeps are a chain of dependent steps, and 6×6 temporaries written by rows and read by columns
+// (or in pieces and read in pairs) stall store-to-load forwarding on each of them.
 #include <Eigen/Cholesky>
 
 #include "dynamics/equations.hpp"
@@ -17,119 +21,240 @@ namespace kanesens::dynamics {
 namespace {
 using M6 = Eigen::Matrix<double, 6, 6>;
 using V6 = Eigen::Matrix<double, 6, 1>;
+using Force6 = std::array<double, 6>;
 
-// parent += Xᵀ I X, X the shift of motion vectors from Q_P to Q_C = Q_P + r: an articulated
-// inertia at the child's point, seen from the parent's. With I = [A B; Bᵀ C] and R = r×:
-// A' = A − B R − (B R)ᵀ − R C R, B' = B + R C, C' = C. Products with R are cross products
-// (row i of B R is b_i × r, column j of R C is r × c_j), formed in scalars: 3×3 temporaries
-// written by rows and read by columns stall store-to-load forwarding.
-void add_inertia_to_parent(const M6& I, const Eigen::Vector3d& r, M6& parent) {
+// Position of (i, j) in the 6-entry storage of a symmetric 3×3 block.
+constexpr int kSym[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+
+void from_spatial_inertia(const SpatialInertia<double>& X, ArticulatedInertia& I) {
+  // [I h×; −h× m1]: B = h× (B a = h × a).
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) I.A[kSym[i][j]] = X.I(i, j);
+  const double h0 = X.h[0], h1 = X.h[1], h2 = X.h[2];
+  const double B[9] = {0, -h2, h1, h2, 0, -h0, -h1, h0, 0};
+  for (int k = 0; k < 9; ++k) I.B[k] = B[k];
+  I.C[0] = I.C[1] = I.C[2] = X.m;
+  I.C[3] = I.C[4] = I.C[5] = 0;
+}
+
+void to_matrix(const ArticulatedInertia& I, M6& M) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      M(i, j) = I.A[kSym[i][j]];
+      M(i, 3 + j) = I.B[3 * i + j];
+      M(3 + j, i) = I.B[3 * i + j];
+      M(3 + i, 3 + j) = I.C[kSym[i][j]];
+    }
+}
+
+void from_matrix(const M6& M, ArticulatedInertia& I) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      if (j >= i) I.A[kSym[i][j]] = 0.5 * (M(i, j) + M(j, i));
+      if (j >= i) I.C[kSym[i][j]] = 0.5 * (M(3 + i, 3 + j) + M(3 + j, 3 + i));
+      I.B[3 * i + j] = 0.5 * (M(i, 3 + j) + M(3 + j, i));
+    }
+}
+
+// Xᵀ I X, X the shift of motion vectors from Q_P to Q_C = Q_P + r: an articulated inertia at the
+// child's point seen from the parent's. With R = r×: A' = A − B R − (B R)ᵀ − R C R, B' = B + R C,
+// C' = C (row i of B R is b_i × r, column j of R C is r × c_j).
+ArticulatedInertia shifted_to_parent(const ArticulatedInertia& I, const double r[3]) {
   const double r0 = r[0], r1 = r[1], r2 = r[2];
-  double BR[3][3], RC[3][3], RCR[3][3];
+  ArticulatedInertia out;
+  double BR[3][3], RC[3][3];
   for (int i = 0; i < 3; ++i) {
-    const double b0 = I(i, 3), b1 = I(i, 4), b2 = I(i, 5);
+    const double b0 = I.B[3 * i], b1 = I.B[3 * i + 1], b2 = I.B[3 * i + 2];
     BR[i][0] = b1 * r2 - b2 * r1;
     BR[i][1] = b2 * r0 - b0 * r2;
     BR[i][2] = b0 * r1 - b1 * r0;
-    const double c0 = I(3, 3 + i), c1 = I(4, 3 + i), c2 = I(5, 3 + i);
+    const double c0 = I.C[kSym[0][i]], c1 = I.C[kSym[1][i]], c2 = I.C[kSym[2][i]];
     RC[0][i] = r1 * c2 - r2 * c1;
     RC[1][i] = r2 * c0 - r0 * c2;
     RC[2][i] = r0 * c1 - r1 * c0;
   }
   for (int i = 0; i < 3; ++i) {
-    RCR[i][0] = RC[i][1] * r2 - RC[i][2] * r1;
-    RCR[i][1] = RC[i][2] * r0 - RC[i][0] * r2;
-    RCR[i][2] = RC[i][0] * r1 - RC[i][1] * r0;
-  }
-  for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) {
-      parent(i, j) += I(i, j) - BR[i][j] - BR[j][i] - RCR[i][j];
-      const double b = I(i, 3 + j) + RC[i][j];
-      parent(i, 3 + j) += b;
-      parent(3 + j, i) += b;
-      parent(3 + i, 3 + j) += I(3 + i, 3 + j);
+    // Row i of R C R (symmetric: its upper triangle).
+    for (int j = i; j < 3; ++j) {
+      const double rcr = j == 0   ? RC[i][1] * r2 - RC[i][2] * r1
+                         : j == 1 ? RC[i][2] * r0 - RC[i][0] * r2
+                                  : RC[i][0] * r1 - RC[i][1] * r0;
+      out.A[kSym[i][j]] = I.A[kSym[i][j]] - BR[i][j] - BR[j][i] - rcr;
     }
+    for (int j = 0; j < 3; ++j) out.B[3 * i + j] = I.B[3 * i + j] + RC[i][j];
+  }
+  for (int k = 0; k < 6; ++k) out.C[k] = I.C[k];
+  return out;
+}
+
+void add_to(const ArticulatedInertia& X, ArticulatedInertia& parent) {
+  for (int k = 0; k < 6; ++k) parent.A[k] += X.A[k];
+  for (int k = 0; k < 9; ++k) parent.B[k] += X.B[k];
+  for (int k = 0; k < 6; ++k) parent.C[k] += X.C[k];
+}
+
+// (n, f) at Q_C as a force at Q_P = Q_C − r: (n + r × f, f).
+Force6 force_to_parent(const double f[6], const double r[3]) {
+  return {f[0] + (r[1] * f[5] - r[2] * f[4]), f[1] + (r[2] * f[3] - r[0] * f[5]),
+          f[2] + (r[0] * f[4] - r[1] * f[3]), f[3], f[4], f[5]};
+}
+
+// A joint of one speed s = (a, 0) or (0, a) with articulated inertia I and bias p at the child:
+// U = I s, D = sᵀ U, u = τ − sᵀ p. Adds the child's contribution to its parent,
+// Xᵀ (I − U Uᵀ/D) X and Xᵀ (p + U u/D), as Xᵀ I X − U' U'ᵀ/D and Xᵀ p + U' u/D with U' = Xᵀ U
+// (one rank-one update, at the parent's point). Stores W = U'/D and u/D, from which the forward
+// sweep gets u̇ = u/D − Wᵀ δa_P (δa_P at the parent's point, since U'ᵀ δa_P = Uᵀ X δa_P).
+// Returns false unless D > 0.
+bool one_speed_to_parent(const ArticulatedInertia& I, const double p[6], const double a[3], bool rotation,
+                         double tau, const double r[3], bool has_parent, ArticulatedInertia* parent,
+                         double* parent_bias, double W[6], double& u_over_d) {
+  const double a0 = a[0], a1 = a[1], a2 = a[2];
+  double U[6];
+  double d, u;
+  if (rotation) {  // U = (A a, Bᵀ a)
+    for (int i = 0; i < 3; ++i) U[i] = I.A[kSym[i][0]] * a0 + I.A[kSym[i][1]] * a1 + I.A[kSym[i][2]] * a2;
+    for (int i = 0; i < 3; ++i) U[3 + i] = I.B[i] * a0 + I.B[3 + i] * a1 + I.B[6 + i] * a2;
+    d = a0 * U[0] + a1 * U[1] + a2 * U[2];
+    u = tau - (a0 * p[0] + a1 * p[1] + a2 * p[2]);
+  } else {  // U = (B a, C a)
+    for (int i = 0; i < 3; ++i) U[i] = I.B[3 * i] * a0 + I.B[3 * i + 1] * a1 + I.B[3 * i + 2] * a2;
+    for (int i = 0; i < 3; ++i) U[3 + i] = I.C[kSym[i][0]] * a0 + I.C[kSym[i][1]] * a1 + I.C[kSym[i][2]] * a2;
+    d = a0 * U[3] + a1 * U[4] + a2 * U[5];
+    u = tau - (a0 * p[3] + a1 * p[4] + a2 * p[5]);
+  }
+  if (!(d > 0)) return false;
+  const double dinv = 1.0 / d;
+  u_over_d = u * dinv;
+  const Force6 Up = has_parent ? force_to_parent(U, r) : Force6{U[0], U[1], U[2], U[3], U[4], U[5]};
+  for (int i = 0; i < 6; ++i) W[i] = Up[i] * dinv;
+  if (!has_parent) return true;
+  const ArticulatedInertia S = shifted_to_parent(I, r);
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i; j < 3; ++j) {
+      parent->A[kSym[i][j]] += S.A[kSym[i][j]] - Up[i] * W[j];
+      parent->C[kSym[i][j]] += S.C[kSym[i][j]] - Up[3 + i] * W[3 + j];
+    }
+    for (int j = 0; j < 3; ++j) parent->B[3 * i + j] += S.B[3 * i + j] - Up[i] * W[3 + j];
+  }
+  const Force6 pp = force_to_parent(p, r);
+  for (int i = 0; i < 6; ++i) parent_bias[i] += pp[i] + Up[i] * u_over_d;
+  return true;
+}
+
+// A joint of several speeds (spherical, free, universal, …): U = I S, D = Sᵀ U (factored),
+// u = τ − Sᵀ p, and the child's I − U D⁻¹ Uᵀ, p + U D⁻¹ u in place, to be added to the parent.
+// Leaves U in `columns` and D⁻¹ in Dinv, and u in x. Returns false unless D is positive definite.
+bool project_speeds(ArticulatedInertia& I, double p[6], const Vec6<double>* s, const unsigned char* rotation, int n,
+                    const double* tau, bool has_parent, V6* columns, M6& Dinv, double* x) {
+  M6 IA;
+  to_matrix(I, IA);
+  for (int c = 0; c < n; ++c) {  // s = (a, 0) or (0, a): half of I^A and of p^A
+    if (rotation[c]) {
+      columns[c].noalias() = IA.leftCols<3>() * s[c].head<3>();
+      x[c] = tau[c] - (s[c][0] * p[0] + s[c][1] * p[1] + s[c][2] * p[2]);
+    } else {
+      columns[c].noalias() = IA.rightCols<3>() * s[c].tail<3>();
+      x[c] = tau[c] - (s[c][3] * p[3] + s[c][4] * p[4] + s[c][5] * p[5]);
+    }
+  }
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> D(n, n);
+  for (int c = 0; c < n; ++c)
+    for (int d = 0; d < n; ++d) D(c, d) = s[c].dot(columns[d]);
+  const Eigen::LLT<decltype(D)> llt(D);
+  if (llt.info() != Eigen::Success) return false;
+  Dinv.topLeftCorner(n, n) = llt.solve(decltype(D)::Identity(n, n));
+  if (!has_parent) return true;
+  for (int c = 0; c < n; ++c) {
+    V6 w = columns[0] * Dinv(0, c);  // column c of U D⁻¹
+    for (int d = 1; d < n; ++d) w += columns[d] * Dinv(d, c);
+    IA.noalias() -= w * columns[c].transpose();
+    for (int i = 0; i < 6; ++i) p[i] += w[i] * x[c];
+  }
+  from_matrix(IA, I);
+  return true;
 }
 }  // namespace
 
 bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
   for (int b = 0; b < m.nbody(); ++b) {
-    ws.spatial_inertia[b].to_matrix(ws.articulated_inertia[b]);
-    ws.articulated_bias[b] = -ws.wrench[b];
+    from_spatial_inertia(ws.spatial_inertia[b], ws.articulated_inertia[b]);
+    for (int i = 0; i < 6; ++i) ws.articulated_bias[b][i] = -ws.wrench[b][i];
   }
-  double* x = ws.udot.data();  // u_j = τ_j − S_jᵀ p^A on the way in, u̇ on the way out
-  // Leaves to roots: I^A, p^A of each body's subtree; each joint's U = I^A S, D⁻¹ = (Sᵀ U)⁻¹.
+  double* x = ws.udot.data();  // u/D (one speed) or u = τ − Sᵀ p^A (several) on the way in, u̇ out
+  // Leaves to roots: I^A, p^A of each body's subtree.
   for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
     const Joint& J = m.joints[*it];
     const int n = J.nu, k0 = J.u_offset;
-    M6& IA = ws.articulated_inertia[J.child];
-    V6& pA = ws.articulated_bias[J.child];
-    if (n > 0) {
-      const V6* s = ws.partial.data() + k0;
-      V6* U = ws.articulated_columns.data() + k0;
-      const unsigned char* rotation = m.speed_rotation.data() + k0;
-      for (int c = 0; c < n; ++c) {  // s = (a, 0) or (0, a): half of I^A and of p^A
-        if (rotation[c]) {
-          U[c].noalias() = IA.leftCols<3>() * s[c].head<3>();
-          x[k0 + c] = ws.forcing[k0 + c] - s[c].head<3>().dot(pA.head<3>());
-        } else {
-          U[c].noalias() = IA.rightCols<3>() * s[c].tail<3>();
-          x[k0 + c] = ws.forcing[k0 + c] - s[c].tail<3>().dot(pA.tail<3>());
-        }
-      }
-      M6& Dinv = ws.joint_inverse[*it];
-      if (n == 1) {
-        const double d = rotation[0] ? s[0].head<3>().dot(U[0].head<3>()) : s[0].tail<3>().dot(U[0].tail<3>());
-        if (!(d > 0)) return false;
-        Dinv(0, 0) = 1.0 / d;
-      } else {
-        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> D(n, n);
-        for (int c = 0; c < n; ++c)
-          for (int d = 0; d < n; ++d) D(c, d) = s[c].dot(U[d]);
-        const Eigen::LLT<decltype(D)> llt(D);
-        if (llt.info() != Eigen::Success) return false;
-        Dinv.topLeftCorner(n, n) = llt.solve(decltype(D)::Identity(n, n));
-      }
-      if (J.parent < 0) continue;
-      // I^a = I^A − U D⁻¹ Uᵀ, p^a = p^A + U D⁻¹ u, in place (the child's I^A, p^A are done with).
-      for (int c = 0; c < n; ++c) {
-        V6 w = U[0] * Dinv(0, c);  // column c of U D⁻¹
-        for (int d = 1; d < n; ++d) w += U[d] * Dinv(d, c);
-        IA.noalias() -= w * U[c].transpose();
-        pA += w * x[k0 + c];
-      }
+    ArticulatedInertia& IA = ws.articulated_inertia[J.child];
+    double* pA = ws.articulated_bias[J.child].data();
+    const double* r = ws.joint_offset[*it].data();
+    const bool has_parent = J.parent >= 0;
+    if (n == 1) {
+      const Vec6<double>& s = ws.partial[k0];
+      const bool rotation = m.speed_rotation[k0] != 0;
+      if (!one_speed_to_parent(IA, pA, rotation ? s.data() : s.data() + 3, rotation, ws.forcing[k0], r, has_parent,
+                               has_parent ? &ws.articulated_inertia[J.parent] : nullptr,
+                               has_parent ? ws.articulated_bias[J.parent].data() : nullptr,
+                               ws.articulated_columns[k0].data(), x[k0]))
+        return false;
+      continue;
     }
-    if (J.parent >= 0) {
-      add_inertia_to_parent(IA, ws.joint_offset[*it], ws.articulated_inertia[J.parent]);
-      math::add_force_to_parent<double>(pA, ws.joint_offset[*it], ws.articulated_bias[J.parent]);
+    if (n > 1) {
+      V6 U[6];
+      if (!project_speeds(IA, pA, ws.partial.data() + k0, m.speed_rotation.data() + k0, n, ws.forcing.data() + k0,
+                          has_parent, U, ws.joint_inverse[*it], x + k0))
+        return false;
+      for (int c = 0; c < n; ++c)
+        for (int i = 0; i < 6; ++i) ws.articulated_columns[k0 + c][i] = U[c][i];
+    }
+    if (has_parent) {
+      add_to(shifted_to_parent(IA, r), ws.articulated_inertia[J.parent]);
+      const Force6 pp = force_to_parent(pA, r);
+      for (int i = 0; i < 6; ++i) ws.articulated_bias[J.parent][i] += pp[i];
     }
   }
-  // Roots to leaves: u̇_j = D⁻¹ (u_j − Uᵀ δa'), δa_C = δa' + S u̇ (δa' the parent's, at Q_C). A
-  // body's p^a is not needed once its joint is done, so its slot holds δa.
+  // Roots to leaves: δa_C = X δa_P + S u̇, with u̇ = u/D − Wᵀ δa_P (one speed) or
+  // D⁻¹ (u − Uᵀ X δa_P) (several). A body's p^A is not needed once its joint is done, so its slot
+  // holds δa.
   for (int ji : m.joint_order) {
     const Joint& J = m.joints[ji];
     const int n = J.nu, k0 = J.u_offset;
-    // Formed in a local (stored once at the end): a vector written in pieces and read back in
-    // pairs stalls store-to-load forwarding.
-    V6 a = J.parent >= 0 ? math::motion_to_child<double>(ws.articulated_bias[J.parent], ws.joint_offset[ji])
-                         : V6::Zero().eval();
-    if (n == 0) {
-      ws.articulated_bias[J.child] = a;
-      continue;
+    double aP[6] = {0, 0, 0, 0, 0, 0};
+    if (J.parent >= 0)
+      for (int i = 0; i < 6; ++i) aP[i] = ws.articulated_bias[J.parent][i];
+    const double* r = ws.joint_offset[ji].data();
+    double a[6] = {aP[0],
+                   aP[1],
+                   aP[2],
+                   aP[3] + (aP[1] * r[2] - aP[2] * r[1]),
+                   aP[4] + (aP[2] * r[0] - aP[0] * r[2]),
+                   aP[5] + (aP[0] * r[1] - aP[1] * r[0])};
+    if (n == 1) {
+      const double* W = ws.articulated_columns[k0].data();
+      double ud = x[k0];
+      for (int i = 0; i < 6; ++i) ud -= W[i] * aP[i];
+      x[k0] = ud;
+    } else if (n > 1) {
+      double rr[6];
+      for (int c = 0; c < n; ++c) {
+        const double* U = ws.articulated_columns[k0 + c].data();
+        double v = x[k0 + c];
+        for (int i = 0; i < 6; ++i) v -= U[i] * a[i];
+        rr[c] = v;
+      }
+      const M6& Dinv = ws.joint_inverse[ji];
+      for (int c = 0; c < n; ++c) {
+        double v = 0;
+        for (int d = 0; d < n; ++d) v += Dinv(c, d) * rr[d];
+        x[k0 + c] = v;
+      }
     }
-    double r[6];
-    for (int c = 0; c < n; ++c) r[c] = x[k0 + c] - ws.articulated_columns[k0 + c].dot(a);
-    const M6& Dinv = ws.joint_inverse[ji];
     for (int c = 0; c < n; ++c) {
-      double v = 0;
-      for (int d = 0; d < n; ++d) v += Dinv(c, d) * r[d];
-      x[k0 + c] = v;
+      const double* s = ws.partial[k0 + c].data();
+      const int o = m.speed_rotation[k0 + c] ? 0 : 3;
+      for (int i = 0; i < 3; ++i) a[o + i] += s[o + i] * x[k0 + c];
     }
-    for (int c = 0; c < n; ++c) {
-      if (m.speed_rotation[k0 + c]) a.head<3>() += ws.partial[k0 + c].head<3>() * x[k0 + c];
-      else a.tail<3>() += ws.partial[k0 + c].tail<3>() * x[k0 + c];
-    }
-    ws.articulated_bias[J.child] = a;
+    for (int i = 0; i < 6; ++i) ws.articulated_bias[J.child][i] = a[i];
   }
   return true;
 }

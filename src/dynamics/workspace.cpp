@@ -106,8 +106,11 @@ Workspace<S>::Workspace(const Model& m)
                        (2 * constraint_sparsity.envelope_entries < mc * (mc + 1) / 2 ||
                         2 * constraint_sparsity.support_entries < mc * n);
   if constexpr (std::is_same_v<S, double>)
-    if (mass_matrix_full && m.nconstraint_rows == 0 && !m.evaluate_planar() && m.nu >= kArticulatedBodyMinSpeeds)
-      set_articulated_body(m, *this, true);
+    if (mass_matrix_full && m.nconstraint_rows == 0 && !m.evaluate_planar()) {
+      bool one_speed_joints = true;
+      for (const Joint& J : m.joints) one_speed_joints = one_speed_joints && J.nu <= 1;
+      if (one_speed_joints || m.nu >= kArticulatedBodyMinSpeeds) set_articulated_body(m, *this, true);
+    }
   mass_matrix.setZero();
   constraint_matrix.setZero();
 }

@@ -58,6 +58,13 @@ struct ConstraintSparsity {
   std::size_t envelope_entries = 0, support_entries = 0;
 };
 
+// An articulated-body inertia [A B; Bᵀ C] at a body's Q (dynamics/articulated_body.cpp): the
+// symmetric blocks A (rotational) and C (translational) by their entries xx, yy, zz, xy, xz, yz,
+// B by rows.
+struct ArticulatedInertia {
+  double A[6], B[9], C[6];
+};
+
 // Frames (math/spatial.hpp): every body's spatial quantities are taken at its reference point,
 // the joint point Q_b of its inboard joint (on the body), with world-aligned axes; a joint's
 // offset r_J = Q_child − Q_parent (small: a body length) moves them between neighbours. Bodies
@@ -117,15 +124,17 @@ struct Workspace {
                                    //        the tree factor LᵀDL (tree_factor)
   std::vector<double> inverse_pivots;  // nu: 1/U(j, j) of the dense factor on double (its solve)
   // evaluate_rhs on double finds u̇ by the articulated-body algorithm (articulated_body_accelerations)
-  // instead of M and its factor: set by the constructor for unconstrained chains of at least
-  // kArticulatedBodyMinSpeeds speeds evaluated in 3-D, where it is the faster. M, its factor and f
-  // are then not formed by evaluate_rhs (evaluate_mass_matrix_and_forcing still forms them);
-  // callers that read them after evaluate_rhs turn it off (set_articulated_body).
+  // instead of M and its factor: set by the constructor for unconstrained chains evaluated in 3-D
+  // whose joints have at most one speed each, or of at least kArticulatedBodyMinSpeeds speeds,
+  // where it is the faster. M, its factor and f are then not formed by evaluate_rhs
+  // (evaluate_mass_matrix_and_forcing still forms them); callers that read them after
+  // evaluate_rhs turn it off (set_articulated_body).
   bool articulated_body = false;
-  std::vector<Mat6<S>> articulated_inertia;  // nb: I^A at Q_b (sized only when articulated_body)
-  std::vector<Vec6<S>> articulated_bias;     // nb: p^A at Q_b, then the acceleration less the bias
-  std::vector<Vec6<S>> articulated_columns;  // nu: U_k = I^A s_k
-  std::vector<Mat6<S>> joint_inverse;        // nj: (Sᵀ I^A S)⁻¹ in the leading nu_j × nu_j block
+  std::vector<ArticulatedInertia> articulated_inertia;  // nb: I^A at Q_b (sized only when articulated_body)
+  std::vector<std::array<double, 6>> articulated_bias;  // nb: p^A at Q_b, then the acceleration less the bias
+  std::vector<std::array<double, 6>> articulated_columns;  // nu: U'/D at the parent's point (joints of one
+                                                           //     speed), U_k = I^A s_k (several)
+  std::vector<Mat6<double>> joint_inverse;  // nj: (Sᵀ I^A S)⁻¹ in the leading nu_j × nu_j block (several speeds)
   // Multi-tangent scalars: the factor of M's value (as cholesky) and one value solve;
   // the tangents are solved with it (apply_mass_inverse).
   Eigen::MatrixXd value_factor;    // nu×nu
@@ -167,8 +176,9 @@ struct Workspace {
   std::vector<Vec6<S>> prefix;  // ≤ 7: a joint's V_P + Σ_{c<k} s_c u_c (carried frames' velocity)
 };
 
-// The fewest speeds of a chain for which the articulated-body algorithm beats forming and
-// factoring M on double (`kanesens bench rhs` on the spatial chains of docs/benchmarks.md).
+// The fewest speeds of a chain with multi-speed joints (spherical, free, …) for which the
+// articulated-body algorithm beats forming and factoring M on double; on chains of one-speed
+// joints it is the faster at every length (`kanesens bench rhs` on the spatial chains of docs/benchmarks.md).
 inline constexpr int kArticulatedBodyMinSpeeds = 28;
 
 // Turns the articulated-body evaluation on (sizing its arrays) or off; it stays off on a model

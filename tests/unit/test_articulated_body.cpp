@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <sstream>
 
 #include "dynamics/equations.hpp"
 #include "kane_test_support.hpp"
@@ -22,9 +23,25 @@ struct Case {
   std::string text;
 };
 
+// A chain of n links on ball joints (3 speeds each), hanging from the ground.
+std::string ball_chain(int n) {
+  std::ostringstream s;
+  s << "kanesens: 1\nscene:\n  name: balls\n  gravity: [0, -9.81, 0]\n  bodies:\n";
+  for (int i = 1; i <= n; ++i) s << "    - {name: b" << i << ", mass: 1, inertia: {shape: box, size: [0.1, 1, 0.2]}}\n";
+  s << "  joints:\n";
+  for (int i = 1; i <= n; ++i) {
+    s << "    - {name: j" << i << ", type: spherical, parent: ";
+    if (i == 1) s << "ground";
+    else s << "b" << i - 1;
+    s << ", child: b" << i << ", parent_point: [0, " << (i == 1 ? "0" : "-0.5") << ", 0], child_point: [0, 0.5, 0]}\n";
+  }
+  return s.str();
+}
+
 std::vector<Case> cases() {
   return {{"chain_tilted_8", test_scenes::chain_scene(8, 0.1)},
           {"chain_tilted_long", test_scenes::chain_scene(dynamics::kArticulatedBodyMinSpeeds + 3, 0.1)},
+          {"ball_chain", ball_chain(5)},
           {"spherical", test_scenes::kSphericalScene},
           {"free_universal_cylindrical", test_scenes::kFreeScene},
           {"forces_prismatic_planar", test_scenes::kForcesScene}};
@@ -74,13 +91,19 @@ TEST(ArticulatedBody, PhysicalPendulumClosedForm) {
   }
 }
 
-TEST(ArticulatedBody, ChosenForLongUnconstrainedSpatialChainsOnly) {
-  const int n = dynamics::kArticulatedBodyMinSpeeds;
-  EXPECT_TRUE(Workspace<double>(model_from_text(test_scenes::chain_scene(n, 0.1))).articulated_body);
-  EXPECT_FALSE(Workspace<double>(model_from_text(test_scenes::chain_scene(n - 1, 0.1))).articulated_body);
-  EXPECT_FALSE(Workspace<double>(model_from_text(test_scenes::chain_scene(n + 8))).articulated_body)
+TEST(ArticulatedBody, ChosenForUnconstrainedSpatialChainsOnly) {
+  // Chains of one-speed joints take it at any length; chains with multi-speed joints from
+  // kArticulatedBodyMinSpeeds speeds on (where it overtakes M and its factor).
+  for (const int n : {1, 2, 8, dynamics::kArticulatedBodyMinSpeeds})
+    EXPECT_TRUE(Workspace<double>(model_from_text(test_scenes::chain_scene(n, 0.1))).articulated_body) << n;
+  const int balls = (dynamics::kArticulatedBodyMinSpeeds + 2) / 3;  // 3 balls·speeds ≥ the threshold
+  EXPECT_TRUE(Workspace<double>(model_from_text(ball_chain(balls))).articulated_body);
+  EXPECT_FALSE(Workspace<double>(model_from_text(ball_chain(balls - 1))).articulated_body);
+  EXPECT_FALSE(Workspace<double>(model_from_text(test_scenes::kSphericalScene)).articulated_body)
+      << "4 speeds with a ball joint";
+  EXPECT_FALSE(Workspace<double>(model_from_text(test_scenes::chain_scene(40))).articulated_body)
       << "a planar chain keeps the planar path";
-  EXPECT_FALSE(Workspace<Dual>(model_from_text(test_scenes::chain_scene(n, 0.1))).articulated_body)
+  EXPECT_FALSE(Workspace<Dual>(model_from_text(test_scenes::chain_scene(8, 0.1))).articulated_body)
       << "derivatives go through M";
   const Model closed = model_from_text(test_scenes::n_four_bar(6));
   Workspace<double> ws(closed);

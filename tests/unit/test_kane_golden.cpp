@@ -51,6 +51,8 @@ std::vector<std::string> compute_lines() {
       std::vector<double> y(m.nstate()), ydot(m.nstate());
       for (double& v : y) v = uni(rng);
       evaluate_rhs(m, ws, 0.7, y.data(), ydot.data());
+      // M and f as the mass-matrix path forms them (the RHS may find u̇ without them).
+      evaluate_mass_matrix_and_forcing(m, ws, 0.7, y.data(), y.data() + m.nq);
       std::ostringstream o;
       char buf[40];
       auto put = [&](double v) {

@@ -66,6 +66,7 @@ Eval<S> evaluate(const Model& m, const std::vector<S>& y, const S& t) {
   Eval<S> e;
   e.ydot.resize(y.size());
   EXPECT_TRUE(evaluate_rhs(m, ws, t, y.data(), e.ydot.data()));
+  evaluate_mass_matrix_and_forcing(m, ws, t, y.data(), y.data() + m.nq);  // the RHS may not form M, f
   e.M = ws.mass_matrix;
   e.f = ws.forcing;
   e.T = kinetic_energy(m, ws);
