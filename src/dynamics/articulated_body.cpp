@@ -215,46 +215,61 @@ bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
   }
   // Roots to leaves: δa_C = X δa_P + S u̇, with u̇ = u/D − Wᵀ δa_P (one speed) or
   // D⁻¹ (u − Uᵀ X δa_P) (several). A body's p^A is not needed once its joint is done, so its slot
-  // holds δa.
+  // holds δa. Along a chain the parent's δa is the one just formed: it is carried in scalars
+  // (reading back what was just stored, in pairs, would stall store-to-load forwarding).
+  double a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0;
+  int carried = -1;  // the body whose δa a0…a5 hold
   for (int ji : m.joint_order) {
     const Joint& J = m.joints[ji];
     const int n = J.nu, k0 = J.u_offset;
-    double aP[6] = {0, 0, 0, 0, 0, 0};
-    if (J.parent >= 0)
-      for (int i = 0; i < 6; ++i) aP[i] = ws.articulated_bias[J.parent][i];
-    const double* r = ws.joint_offset[ji].data();
-    double a[6] = {aP[0],
-                   aP[1],
-                   aP[2],
-                   aP[3] + (aP[1] * r[2] - aP[2] * r[1]),
-                   aP[4] + (aP[2] * r[0] - aP[0] * r[2]),
-                   aP[5] + (aP[0] * r[1] - aP[1] * r[0])};
+    if (J.parent < 0) {
+      a0 = a1 = a2 = a3 = a4 = a5 = 0;
+    } else if (J.parent != carried) {
+      const std::array<double, 6>& P = ws.articulated_bias[J.parent];
+      a0 = P[0], a1 = P[1], a2 = P[2], a3 = P[3], a4 = P[4], a5 = P[5];
+    }
+    // Here a = δa_P; u̇ of a one-speed joint needs it at the parent's point.
+    double ud = 0;
     if (n == 1) {
-      const double* W = ws.articulated_columns[k0].data();
-      double ud = x[k0];
-      for (int i = 0; i < 6; ++i) ud -= W[i] * aP[i];
+      const std::array<double, 6>& W = ws.articulated_columns[k0];
+      ud = x[k0] - (W[0] * a0 + W[1] * a1 + W[2] * a2 + W[3] * a3 + W[4] * a4 + W[5] * a5);
       x[k0] = ud;
+    }
+    if (J.parent >= 0) {  // δa_P at Q_C
+      const double* r = ws.joint_offset[ji].data();
+      const double b3 = a3 + (a1 * r[2] - a2 * r[1]), b4 = a4 + (a2 * r[0] - a0 * r[2]), b5 = a5 + (a0 * r[1] - a1 * r[0]);
+      a3 = b3, a4 = b4, a5 = b5;
+    }
+    if (n == 1) {
+      const double* s = ws.partial[k0].data();
+      if (m.speed_rotation[k0]) {
+        a0 += s[0] * ud, a1 += s[1] * ud, a2 += s[2] * ud;
+      } else {
+        a3 += s[3] * ud, a4 += s[4] * ud, a5 += s[5] * ud;
+      }
     } else if (n > 1) {
+      const double a[6] = {a0, a1, a2, a3, a4, a5};
       double rr[6];
       for (int c = 0; c < n; ++c) {
-        const double* U = ws.articulated_columns[k0 + c].data();
-        double v = x[k0 + c];
-        for (int i = 0; i < 6; ++i) v -= U[i] * a[i];
-        rr[c] = v;
+        const std::array<double, 6>& U = ws.articulated_columns[k0 + c];
+        rr[c] = x[k0 + c] - (U[0] * a[0] + U[1] * a[1] + U[2] * a[2] + U[3] * a[3] + U[4] * a[4] + U[5] * a[5]);
       }
       const M6& Dinv = ws.joint_inverse[ji];
       for (int c = 0; c < n; ++c) {
         double v = 0;
         for (int d = 0; d < n; ++d) v += Dinv(c, d) * rr[d];
         x[k0 + c] = v;
+        const double* s = ws.partial[k0 + c].data();
+        if (m.speed_rotation[k0 + c]) {
+          a0 += s[0] * v, a1 += s[1] * v, a2 += s[2] * v;
+        } else {
+          a3 += s[3] * v, a4 += s[4] * v, a5 += s[5] * v;
+        }
       }
     }
-    for (int c = 0; c < n; ++c) {
-      const double* s = ws.partial[k0 + c].data();
-      const int o = m.speed_rotation[k0 + c] ? 0 : 3;
-      for (int i = 0; i < 3; ++i) a[o + i] += s[o + i] * x[k0 + c];
-    }
-    for (int i = 0; i < 6; ++i) ws.articulated_bias[J.child][i] = a[i];
+    std::array<double, 6>& C = ws.articulated_bias[J.child];
+    C[0] = a0, C[1] = a1, C[2] = a2, C[3] = a3, C[4] = a4, C[5] = a5;
+    carried = J.child;
   }
   return true;
 }
