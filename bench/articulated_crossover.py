@@ -2,14 +2,15 @@
 """Where the articulated-body recursion beats M and its factor: `kanesens bench rhs
 --rhs-algorithm mass_matrix|articulated_body --json` on spatial N-link chains of revolute joints
 (axes z, x alternating: bench/common.py's chain_scene_yaml, as in docs/benchmarks.md's MuJoCo
-table) and on chains of ball joints (3 speeds each), the two interleaved in every round. The ratio
+table), on chains of ball joints (3 speeds each) and on planar chains (every axis z, the planar
+path and its own recursion), the two interleaved in every round. The ratio
 is taken within a round; the table shows its median over the rounds, and the medians of the times.
 
-  articulated_crossover.py OUT.json [--ns "2 4 8 16 32 64"] [--balls "2 4 8 10 16"] [--rounds 9]
-      [--build build]
+  articulated_crossover.py OUT.json [--ns "2 4 8 16 32 64"] [--balls "2 4 8 10 16"]
+      [--planar "1 2 4 8 16 32 64"] [--rounds 9] [--build build]
   articulated_crossover.py --table OUT.json
 
-The workspace uses the recursion on every chain of one-speed joints, and on chains with
+The workspace uses the recursion on every chain of one-speed joints (3-D or planar), and on chains with
 multi-speed joints from dynamics::kArticulatedBodyMinSpeeds speeds on (src/dynamics/workspace.hpp),
 the crossover of the ball chains.
 """
@@ -45,8 +46,9 @@ def measure(a) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         chains = [("revolute", int(n), c.chain_scene_yaml(int(n), axes="z,x")) for n in c.words(a.ns)]
         chains += [("ball", 3 * int(n), ball_chain_yaml(int(n))) for n in c.words(a.balls)]
-        for kind, n, text in chains:
-            scene = Path(tmp) / f"{kind}{n}.yaml"
+        chains += [("revolute, planar path", int(n), c.chain_scene_yaml(int(n))) for n in c.words(a.planar)]
+        for i, (kind, n, text) in enumerate(chains):
+            scene = Path(tmp) / f"chain{i}.yaml"
             scene.write_text(text)
             times = {k: [] for k in ALGORITHMS}
             for r in range(a.rounds):
@@ -78,6 +80,7 @@ if __name__ == "__main__":
     ap.add_argument("out")
     ap.add_argument("--ns", default="2 4 8 16 32 64")
     ap.add_argument("--balls", default="2 4 8 10 16")
+    ap.add_argument("--planar", default="1 2 4 8 16 32 64")
     ap.add_argument("--rounds", type=int, default=9)
     ap.add_argument("--build", default=str(c.ROOT / "build"))
     a = ap.parse_args(argv)

@@ -115,8 +115,8 @@ int run_bench_rhs(const BenchOptions& o) {
     dynamics::set_articulated_body(m, ws, o.rhs_algorithm == "articulated_body");
     if (o.rhs_algorithm == "articulated_body" && !uses_articulated_body(m, ws))
       throw InputError({}, "--rhs-algorithm",
-                       "articulated_body needs a scene without constraints, evaluated in 3-D (add --general-3d to a "
-                       "planar one)");
+                       "articulated_body needs a scene without constraints, and on the planar path joints of "
+                       "at most one speed each (add --general-3d to evaluate it in 3-D)");
   }
   set_parameters(m, ws, p.data());
   std::vector<double> ydot(n);
@@ -264,9 +264,9 @@ CLI::App* add_bench(CLI::App& app, Action& action) {
                   "Run exactly N untimed evaluations of each kind (for callgrind: instructions / N)")
       ->check(integer_in(0, 1LL << 40));
   rhs->add_option("--rhs-algorithm", o->rhs_algorithm,
-                  "How `rhs` finds u̇: auto (articulated_body for unconstrained 3-D chains of one-speed joints "
-                  "or of 28 or more speeds, else mass_matrix), mass_matrix (M and its factor) or "
-                  "articulated_body")
+                  "How `rhs` finds u̇: auto (articulated_body for unconstrained chains of one-speed joints, "
+                  "or evaluated in 3-D with 28 or more speeds, else mass_matrix), mass_matrix (M and its "
+                  "factor) or articulated_body")
       ->check(CLI::IsMember({"auto", "mass_matrix", "articulated_body"}));
   rhs->callback([&action, o] { action = [o] { return run_bench_rhs(*o); }; });
   return cmd;

@@ -275,12 +275,16 @@ bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* y
     evaluate_state_expressions(m, ws, t, q, u);
     compute_position(m, ws, q);
     compute_velocity(m, ws, u);
-    compute_body_wrenches(m, ws);
+    if (m.evaluate_planar()) detail::compute_body_wrenches_planar(m, ws);
+    else compute_body_wrenches(m, ws);
     ws.forcing.setZero();
     detail::add_joint_spring_dampers(m, ws, q, u);
     compute_kinematic_derivatives(m, ws, q, u);
-    if constexpr (std::is_same_v<S, double>)
-      if (!articulated_body_accelerations(m, ws)) why = RhsFailure::mass_matrix_not_positive_definite;
+    if constexpr (std::is_same_v<S, double>) {
+      const bool ok = m.evaluate_planar() ? detail::articulated_body_accelerations_planar(m, ws)
+                                          : articulated_body_accelerations(m, ws);
+      if (!ok) why = RhsFailure::mass_matrix_not_positive_definite;
+    }
   } else {
     evaluate_mass_matrix_and_forcing(m, ws, t, q, u);
     compute_kinematic_derivatives(m, ws, q, u);

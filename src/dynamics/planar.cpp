@@ -167,7 +167,7 @@ void compute_mass_matrix_planar(const Model& m, Workspace<S>& ws) {
 }
 
 template <class S>
-void compute_forcing_planar(const Model& m, Workspace<S>& ws) {
+void compute_body_wrenches_planar(const Model& m, Workspace<S>& ws) {
   const int nb = m.nbody();
   const S gx = ws.gravity[0], gy = ws.gravity[1];
   // Applied minus inertial wrench of each body at its Q: gravity m g at the mass center (its z
@@ -179,6 +179,11 @@ void compute_forcing_planar(const Model& m, Workspace<S>& ws) {
                           (I * ws.bias_planar[b] + cross_force_planar<S>(V, I * V));
   }
   for_each_force_element(m, ws, [&](int b, const Vec6<S>& w) { ws.wrench_planar[b] += PVec<S>(w[2], w[3], w[4]); });
+}
+
+template <class S>
+void compute_forcing_planar(const Model& m, Workspace<S>& ws) {
+  compute_body_wrenches_planar(m, ws);
   for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
     const Joint& J = m.joints[*it];
     if (J.parent >= 0) {
@@ -194,7 +199,8 @@ void compute_forcing_planar(const Model& m, Workspace<S>& ws) {
   template void compute_position_planar<S>(const Model&, Workspace<S>&, const S*);     \
   template void compute_velocity_planar<S>(const Model&, Workspace<S>&, const S*);     \
   template void compute_mass_matrix_planar<S>(const Model&, Workspace<S>&);            \
-  template void compute_forcing_planar<S>(const Model&, Workspace<S>&);
+  template void compute_forcing_planar<S>(const Model&, Workspace<S>&);                \
+  template void compute_body_wrenches_planar<S>(const Model&, Workspace<S>&);
 KANESENS_FOR_EACH_DYNAMICS_SCALAR(KANESENS_INSTANTIATE)
 #undef KANESENS_INSTANTIATE
 

@@ -15,5 +15,12 @@ void compute_mass_matrix_planar(const Model& m, Workspace<S>& ws);
 // Fills ws.forcing from gravity, inertia and force elements (not joint springs/dampers).
 template <class S>
 void compute_forcing_planar(const Model& m, Workspace<S>& ws);
+// Its first part: each body's applied minus inertial wrench at u̇ = 0, at its Q, in
+// ws.wrench_planar (not yet summed over subtrees).
+template <class S>
+void compute_body_wrenches_planar(const Model& m, Workspace<S>& ws);
+// u̇ of an unconstrained planar tree of one-speed joints by the articulated-body algorithm
+// (dynamics/articulated_body.cpp), after compute_body_wrenches_planar.
+bool articulated_body_accelerations_planar(const Model& m, Workspace<double>& ws);
 
 }  // namespace kanesens::dynamics::detail

@@ -106,7 +106,7 @@ Workspace<S>::Workspace(const Model& m)
                        (2 * constraint_sparsity.envelope_entries < mc * (mc + 1) / 2 ||
                         2 * constraint_sparsity.support_entries < mc * n);
   if constexpr (std::is_same_v<S, double>)
-    if (mass_matrix_full && m.nconstraint_rows == 0 && !m.evaluate_planar()) {
+    if (mass_matrix_full && m.nconstraint_rows == 0) {
       bool one_speed_joints = true;
       for (const Joint& J : m.joints) one_speed_joints = one_speed_joints && J.nu <= 1;
       if (one_speed_joints || m.nu >= kArticulatedBodyMinSpeeds) set_articulated_body(m, *this, true);
@@ -116,8 +116,16 @@ Workspace<S>::Workspace(const Model& m)
 }
 
 void set_articulated_body(const Model& m, Workspace<double>& ws, bool on) {
-  ws.articulated_body = on && m.nconstraint_rows == 0;
+  bool one_speed_joints = true;
+  for (const Joint& J : m.joints) one_speed_joints = one_speed_joints && J.nu <= 1;
+  ws.articulated_body = on && m.nconstraint_rows == 0 && (!m.evaluate_planar() || one_speed_joints);
   if (!ws.articulated_body) return;
+  if (m.evaluate_planar()) {
+    ws.articulated_inertia_planar.resize(static_cast<std::size_t>(m.nbody()));
+    ws.articulated_bias_planar.resize(static_cast<std::size_t>(m.nbody()));
+    ws.articulated_columns_planar.resize(static_cast<std::size_t>(m.nu));
+    return;
+  }
   ws.articulated_inertia.resize(static_cast<std::size_t>(m.nbody()));
   ws.articulated_bias.resize(static_cast<std::size_t>(m.nbody()));
   ws.articulated_columns.resize(static_cast<std::size_t>(m.nu));

@@ -173,6 +173,10 @@ struct Workspace {
   std::vector<PlanarInertia<S>> inertia_planar;    // nb, at Q_b
   std::vector<PlanarInertia<S>> composite_planar;  // nb, subtree at Q_b
   std::vector<PVec<S>> velocity_planar, bias_planar, wrench_planar;  // nb
+  // The articulated-body algorithm on the planar path (sized only when articulated_body).
+  std::vector<std::array<double, 6>> articulated_inertia_planar;  // nb: entries 00, 11, 22, 01, 02, 12
+  std::vector<std::array<double, 3>> articulated_bias_planar;     // nb: p^A, then δa
+  std::vector<std::array<double, 3>> articulated_columns_planar;  // nu: U'/D at the parent's point
   std::vector<Vec6<S>> prefix;  // ≤ 7: a joint's V_P + Σ_{c<k} s_c u_c (carried frames' velocity)
 };
 
@@ -182,12 +186,15 @@ struct Workspace {
 inline constexpr int kArticulatedBodyMinSpeeds = 28;
 
 // Turns the articulated-body evaluation on (sizing its arrays) or off; it stays off on a model
-// with constraints (their multipliers need M's factor).
+// with constraints (their multipliers need M's factor), and on a model evaluated with the planar
+// path unless each of its joints has at most one speed.
 void set_articulated_body(const Model& model, Workspace<double>& ws, bool on);
-// Whether evaluate_rhs finds u̇ by the articulated-body recursion (turned on, and the model is
-// evaluated in 3-D: a planar evaluation has no spatial quantities to run it on).
+// Whether evaluate_rhs finds u̇ by the articulated-body recursion: turned on, and sized for the
+// path (planar or 3-D) the model is evaluated with now.
 inline bool uses_articulated_body(const Model& model, const Workspace<double>& ws) {
-  return ws.articulated_body && !model.evaluate_planar();
+  const auto nb = static_cast<std::size_t>(model.nbody());
+  return ws.articulated_body && (model.evaluate_planar() ? ws.articulated_inertia_planar.size() == nb
+                                                         : ws.articulated_inertia.size() == nb);
 }
 
 // Evaluates parameter-only expressions and the derived per-body/per-joint constants.

@@ -38,10 +38,35 @@ std::string ball_chain(int n) {
   return s.str();
 }
 
+// A cart on a spring and damper carrying two poles, pushed and braked: planar, one speed per joint.
+const char* kCartPoles = R"yaml(kanesens: 1
+scene:
+  name: cart_poles
+  gravity: [0, -9.81, 0]
+  parameters: {k: 20, c: 0.3, F0: 2}
+  bodies:
+    - {name: cart, mass: 2, inertia: {shape: box, size: [0.4, 0.2, 0.2]}}
+    - {name: pole, mass: 0.5, inertia: {shape: rod, length: 1, axis: y}}
+    - {name: tip, mass: 0.3, inertia: {shape: rod, length: 0.6, axis: y}}
+  joints:
+    - {name: slide, type: prismatic, parent: ground, child: cart, axis: [1, 0.2, 0],
+       spring: {k: k, rest: 0.1}, damper: {c: c}}
+    - {name: hinge, type: revolute, parent: cart, child: pole, axis: [0, 0, 1],
+       parent_point: [0.1, 0.05, 0], child_point: [0, -0.5, 0], damper: {c: "c*hinge.u^2"}}
+    - {name: elbow, type: revolute, parent: pole, child: tip, axis: [0, 0, 1],
+       parent_point: [0, 0.5, 0], child_point: [0, -0.3, 0]}
+  forces:
+    - {type: force, name: push, body: cart, point: [0, 0.1, 0], vector: ["F0*sin(3*t)", 0, 0],
+       frame: world}
+    - {type: torque, name: brake, body: pole, vector: [0, 0, "-0.1*hinge.u"], frame: body}
+)yaml";
+
 std::vector<Case> cases() {
   return {{"chain_tilted_8", test_scenes::chain_scene(8, 0.1)},
           {"chain_tilted_long", test_scenes::chain_scene(dynamics::kArticulatedBodyMinSpeeds + 3, 0.1)},
           {"ball_chain", ball_chain(5)},
+          {"chain_planar_8", test_scenes::chain_scene(8)},
+          {"cart_double_pole_planar", kCartPoles},
           {"spherical", test_scenes::kSphericalScene},
           {"free_universal_cylindrical", test_scenes::kFreeScene},
           {"forces_prismatic_planar", test_scenes::kForcesScene}};
@@ -50,11 +75,14 @@ std::vector<Case> cases() {
 TEST(ArticulatedBody, AcceleratesAsTheMassMatrixSolve) {
   for (const auto& c : cases()) {
     SCOPED_TRACE(c.name);
-    const Model m = model_from_text(c.text);
+    Model m = model_from_text(c.text);
+    // A planar scene with a multi-speed (planar) joint is checked on the 3-D recursion.
+    for (const Joint& J : m.joints) m.force_general_3d = m.force_general_3d || (m.evaluate_planar() && J.nu > 1);
     Workspace<double> crba(m), aba(m);
     dynamics::set_articulated_body(m, crba, false);
     dynamics::set_articulated_body(m, aba, true);
     ASSERT_TRUE(aba.articulated_body);
+    ASSERT_TRUE(dynamics::uses_articulated_body(m, aba));
     const std::vector<double> p = m.nominal_parameters();
     set_parameters(m, crba, p.data());
     set_parameters(m, aba, p.data());
@@ -101,8 +129,9 @@ TEST(ArticulatedBody, ChosenForUnconstrainedSpatialChainsOnly) {
   EXPECT_FALSE(Workspace<double>(model_from_text(ball_chain(balls - 1))).articulated_body);
   EXPECT_FALSE(Workspace<double>(model_from_text(test_scenes::kSphericalScene)).articulated_body)
       << "4 speeds with a ball joint";
-  EXPECT_FALSE(Workspace<double>(model_from_text(test_scenes::chain_scene(40))).articulated_body)
-      << "a planar chain keeps the planar path";
+  const Model planar = model_from_text(test_scenes::chain_scene(40));
+  ASSERT_TRUE(planar.evaluate_planar());
+  EXPECT_TRUE(Workspace<double>(planar).articulated_body) << "the planar path's own recursion";
   EXPECT_FALSE(Workspace<Dual>(model_from_text(test_scenes::chain_scene(8, 0.1))).articulated_body)
       << "derivatives go through M";
   const Model closed = model_from_text(test_scenes::n_four_bar(6));
