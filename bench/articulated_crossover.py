@@ -65,7 +65,7 @@ def measure(a) -> dict:
 
 def table(path):
     r = c.load_json(path)
-    print(f"Medians over {r['rounds']} interleaved rounds of `kanesens bench rhs` on spatial chains.\n")
+    print(f"Medians over {r['rounds']} interleaved rounds of `kanesens bench rhs` on each chain.\n")
     print("| joints | speeds | M and its factor (ns) | articulated body (ns) | M and factor / articulated body |")
     print("|---|---:|---:|---:|---:|")
     for row in r["rows"]:
