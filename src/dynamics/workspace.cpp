@@ -11,6 +11,16 @@ namespace kanesens::dynamics {
 
 using math::unit_or_zero;
 
+namespace {
+// Whether every joint has at most one speed (the articulated-body recursion's fused case, and
+// the only one on the planar path).
+bool joints_of_one_speed(const Model& m) {
+  for (const Joint& J : m.joints)
+    if (J.nu > 1) return false;
+  return true;
+}
+}  // namespace
+
 template <class S>
 Workspace<S>::Workspace(const Model& m)
     : parameters(m.nparam()),
@@ -106,19 +116,14 @@ Workspace<S>::Workspace(const Model& m)
                        (2 * constraint_sparsity.envelope_entries < mc * (mc + 1) / 2 ||
                         2 * constraint_sparsity.support_entries < mc * n);
   if constexpr (std::is_same_v<S, double>)
-    if (mass_matrix_full && m.nconstraint_rows == 0) {
-      bool one_speed_joints = true;
-      for (const Joint& J : m.joints) one_speed_joints = one_speed_joints && J.nu <= 1;
-      if (one_speed_joints || m.nu >= kArticulatedBodyMinSpeeds) set_articulated_body(m, *this, true);
-    }
+    if (mass_matrix_full && m.nconstraint_rows == 0 && (joints_of_one_speed(m) || m.nu >= kArticulatedBodyMinSpeeds))
+      set_articulated_body(m, *this, true);
   mass_matrix.setZero();
   constraint_matrix.setZero();
 }
 
 void set_articulated_body(const Model& m, Workspace<double>& ws, bool on) {
-  bool one_speed_joints = true;
-  for (const Joint& J : m.joints) one_speed_joints = one_speed_joints && J.nu <= 1;
-  ws.articulated_body = on && m.nconstraint_rows == 0 && (!m.evaluate_planar() || one_speed_joints);
+  ws.articulated_body = on && m.nconstraint_rows == 0 && (!m.evaluate_planar() || joints_of_one_speed(m));
   if (!ws.articulated_body) return;
   if (m.evaluate_planar()) {
     ws.articulated_inertia_planar.resize(static_cast<std::size_t>(m.nbody()));
