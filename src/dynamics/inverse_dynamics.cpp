@@ -137,6 +137,7 @@ bool AccelerationTangents::prepare(const Model& m, Workspace<double>& ws) {
 
 void AccelerationTangents::multipliers(const Model& m, Workspace<double>& ws, const double* r0, double* lambda) {
   const int n = m.nu, nc = m.nconstraint_rows;
+  if (nc == 0) return;
   for (int k = 0; k < n; ++k) x_[k] = r0[k];
   apply_mass_inverse(m, ws, x_.data());
   for (int j = 0; j < nc; ++j) {

@@ -1,4 +1,6 @@
 // Position and velocity stages of Kane's equations (see dynamics/equations.hpp).
+#include <type_traits>
+
 #include "math/dual.hpp"
 #include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
@@ -22,6 +24,17 @@ void evaluate_state_expressions(const Model& m, Workspace<S>& ws, const S& t, co
   in.time = t;
   for (Slot s : m.state_slots) ws.values[s] = m.expressions[s].evaluate(in);
 }
+
+namespace {
+// The spatial inertia of body C in world-aligned components at its rotation R_C.
+template <class S>
+void rotate_body_inertia(Workspace<S>& ws, int C, const Mat3<S>& R_C) {
+  if (!std::is_same_v<S, double> && ws.inertia_constant[static_cast<std::size_t>(C)])
+    math::rotate_constant_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
+  else
+    rotate_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
+}
+}  // namespace
 
 template <class S>
 void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
@@ -49,7 +62,7 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
       Vec6<S>& s = ws.partial[J.u_offset];
       s.template head<3>() = R_P.col(i);
       s.template tail<3>().setZero();
-      rotate_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
+      rotate_body_inertia(ws, C, R_C);
       continue;
     }
     auto rotate = [&](const Mat3<S>& R_PC) {  // R_C = R_P R_PC
@@ -115,7 +128,7 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
       if (sp.rotation) s.template tail<3>().setZero();
       else s.template head<3>().setZero();
     }
-    rotate_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
+    rotate_body_inertia(ws, C, R_C);
   }
 }
 

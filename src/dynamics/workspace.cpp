@@ -29,6 +29,7 @@ Workspace<S>::Workspace(const Model& m)
       inertia_body(m.nbody()),
       reference_point(m.nbody()),
       inertia_local(m.nbody()),
+      inertia_constant(static_cast<std::size_t>(m.nbody()), 1),
       joint_axis(m.joints.size(), Vec3<S>::Zero()),
       joint_axis2(m.joints.size(), Vec3<S>::Zero()),
       plane_e1(m.joints.size(), Vec3<S>::Zero()),
@@ -142,6 +143,12 @@ template <class S>
 Vec3<S> vec3(const Workspace<S>& ws, const Slot3& s) {
   return {ws.values[s[0]], ws.values[s[1]], ws.values[s[2]]};
 }
+template <class Derived>
+bool has_tangent(const Eigen::MatrixBase<Derived>& x) {
+  for (Eigen::Index i = 0; i < x.size(); ++i)
+    if (math::has_tangent(x.derived().coeff(i))) return true;
+  return false;
+}
 }  // namespace
 
 template <class S>
@@ -160,7 +167,7 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
     if (J.axis[0] >= 0) ws.joint_axis[j] = unit_or_zero<S>(vec3(ws, J.axis));
     if (J.axis2[0] >= 0) ws.joint_axis2[j] = unit_or_zero<S>(vec3(ws, J.axis2));
     ws.joint_axis_index[j] = -1;
-    if constexpr (std::is_same_v<S, double>)  // a Dual axis may carry a parameter's tangent
+    if (!has_tangent(ws.joint_axis[j]))  // a parameter's tangent would be lost on the fast path
       for (int i = 0; i < 3; ++i)
         if (ws.joint_axis[j] == Vec3<S>::Unit(i)) ws.joint_axis_index[j] = i;
     ws.parent_point[j] = vec3(ws, J.parent_point);
@@ -179,8 +186,10 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
     const Joint& J = m.joints[j];
     ws.joint_lever[j] = J.parent >= 0 ? Vec3<S>(ws.parent_point[j] - ws.reference_point[J.parent]) : ws.parent_point[j];
   }
-  for (int b = 0; b < m.nbody(); ++b)
-    ws.inertia_local[b] = math::body_inertia_at<S>(ws.mass[b], ws.inertia_body[b], ws.reference_point[b]);
+  for (int b = 0; b < m.nbody(); ++b) {
+    const SpatialInertia<S>& I = ws.inertia_local[b] = math::body_inertia_at<S>(ws.mass[b], ws.inertia_body[b], ws.reference_point[b]);
+    ws.inertia_constant[static_cast<std::size_t>(b)] = !math::has_tangent(I.m) && !has_tangent(I.h) && !has_tangent(I.I);
+  }
   ws.gravity = vec3(ws, m.gravity);
 }
 

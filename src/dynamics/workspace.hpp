@@ -15,8 +15,8 @@
 // sensitivity passes. Each .cpp instantiates its templates with
 // KANESENS_FOR_EACH_DYNAMICS_SCALAR(ITS_MACRO) (it includes math/dual2.hpp and math/multi_dual.hpp).
 #define KANESENS_FOR_EACH_DYNAMICS_SCALAR(X) \
-  X(double) X(Dual) X(math::Dual2) X(math::MultiDual<4>) X(math::MultiDual<8>) X(math::MultiDual<12>) \
-  X(math::MultiDual<16>)
+  X(double) X(Dual) X(math::Dual2) X(math::MultiDual<4>) X(math::MultiDual<8>) X(math::MultiDual<10>) \
+  X(math::MultiDual<12>) X(math::MultiDual<16>)
 
 namespace kanesens::dynamics {
 
@@ -82,9 +82,11 @@ struct Workspace {
   std::vector<Mat3<S>> inertia_body;  // nb, central, body frame
   std::vector<Vec3<S>> reference_point;  // nb: Q_b in b's frame (its joint's child_point)
   std::vector<SpatialInertia<S>> inertia_local;  // nb: at Q_b, body-frame components
+  std::vector<char> inertia_constant;  // nb: inertia_local carries no tangent (a plain number on
+                                       //     S; rotate_constant_inertia applies)
   std::vector<Vec3<S>> joint_axis, joint_axis2, plane_e1, plane_e2;  // nj, unit (0 if degenerate)
   std::vector<int> joint_axis_index;  // nj: i when joint_axis is exactly e_i (a rotation about it
-                                      //     moves two columns), −1 otherwise and off double
+                                      //     moves two columns), −1 otherwise or if it has a tangent
   std::vector<Vec3<S>> parent_point, child_point;                    // nj
   std::vector<Vec3<S>> joint_lever;  // nj: Q_P to the joint's parent point at q = 0, parent frame
                                      //     (root joints: the parent point, world)

@@ -63,6 +63,9 @@ inline double value_of(double x) { return x; }
 template <class T> double value_of(const DualT<T>& x) { return value_of(x.v); }
 inline double tangent_of(double) { return 0.0; }
 inline double tangent_of(const Dual& x) { return x.d; }
+// Whether x carries a nonzero tangent at any depth (false: a constant on this scalar).
+inline bool has_tangent(double) { return false; }
+template <class T> bool has_tangent(const DualT<T>& x) { return has_tangent(x.v) || value_of(x.d) != 0 || has_tangent(x.d); }
 
 template <class T> DualT<T> sin(const DualT<T>& a) { using std::sin, std::cos; return {sin(a.v), cos(a.v) * a.d}; }
 template <class T> DualT<T> cos(const DualT<T>& a) { using std::sin, std::cos; return {cos(a.v), -sin(a.v) * a.d}; }

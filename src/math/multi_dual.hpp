@@ -213,6 +213,12 @@ MultiDual<N> pow(const MultiDual<N>& a, const MultiDual<N>& b) {
 template <int N> MultiDual<N> min(const MultiDual<N>& a, const MultiDual<N>& b) { return a.v <= b.v ? a : b; }
 template <int N> MultiDual<N> max(const MultiDual<N>& a, const MultiDual<N>& b) { return a.v >= b.v ? a : b; }
 template <int N>
+bool has_tangent(const MultiDual<N>& a) {
+  for (int i = 0; i < N; ++i)
+    if (a.d(i) != 0) return true;
+  return false;
+}
+template <int N>
 bool isfinite(const MultiDual<N>& a) {
   bool ok = std::isfinite(a.v);
   for (int i = 0; i < N; ++i) ok = ok && std::isfinite(a.d(i));

@@ -248,6 +248,36 @@ void rotate_inertia(const SpatialInertia<S>& X, const Mat3<S>& R, SpatialInertia
     }
 }
 
+// rotate_inertia for an X that carries no tangent (a body's inertia when no parameter is
+// differentiated) and an R that may. With T = R₀ I on values, P = R Tᵀ has the value R₀ I R₀ᵀ and
+// in each tangent δR I R₀ᵀ, one half of the product's tangent δR I R₀ᵀ + R₀ I δRᵀ; the other half
+// is its transpose. Products of duals by plain numbers replace products of duals. The values
+// are rotate_inertia's, bit for bit.
+template <class S>
+void rotate_constant_inertia(const SpatialInertia<S>& X, const Mat3<S>& R, SpatialInertia<S>& out) {
+  out.m = X.m;
+  const double hx = value_of(X.h[0]), hy = value_of(X.h[1]), hz = value_of(X.h[2]);
+  for (int i = 0; i < 3; ++i) out.h[i] = R(i, 0) * hx + R(i, 1) * hy + R(i, 2) * hz;
+  const double a = value_of(X.I(0, 0)), b = value_of(X.I(1, 1)), c = value_of(X.I(2, 2));
+  const double d = value_of(X.I(0, 1)), e = value_of(X.I(1, 2)), f = value_of(X.I(0, 2));
+  double T[3][3];
+  for (int i = 0; i < 3; ++i) {
+    const double r0 = value_of(R(i, 0)), r1 = value_of(R(i, 1)), r2 = value_of(R(i, 2));
+    T[i][0] = r0 * a + r1 * d + r2 * f;
+    T[i][1] = r0 * d + r1 * b + r2 * e;
+    T[i][2] = r0 * f + r1 * e + r2 * c;
+  }
+  S P[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) P[i][j] = R(i, 0) * T[j][0] + R(i, 1) * T[j][1] + R(i, 2) * T[j][2];
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      const S x = P[j][i] + (P[i][j] - value_of(P[i][j]));
+      out.I(i, j) = x;
+      if (j != i) out.I(j, i) = x;
+    }
+}
+
 // A force F applied at offset r from the reference point, as a force vector there.
 template <class S>
 Vec6<S> wrench_at(const Vec3<S>& r, const Vec3<S>& F) {

@@ -30,6 +30,8 @@ template void evaluate_parameter_values<math::MultiDual<4>>(const Model&, const 
                                                              math::MultiDual<4>*, math::MultiDual<4>*);
 template void evaluate_parameter_values<math::MultiDual<8>>(const Model&, const math::MultiDual<8>*,
                                                              math::MultiDual<8>*, math::MultiDual<8>*);
+template void evaluate_parameter_values<math::MultiDual<10>>(const Model&, const math::MultiDual<10>*,
+                                                             math::MultiDual<10>*, math::MultiDual<10>*);
 template void evaluate_parameter_values<math::MultiDual<12>>(const Model&, const math::MultiDual<12>*,
                                                              math::MultiDual<12>*, math::MultiDual<12>*);
 template void evaluate_parameter_values<math::MultiDual<16>>(const Model&, const math::MultiDual<16>*,

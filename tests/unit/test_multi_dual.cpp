@@ -1,6 +1,8 @@
 // MultiDual<N>: every tangent equals what the single-tangent Dual gives with the same seed
 // (Dual is itself checked against finite differences and closed forms elsewhere), through
-// arithmetic, the elementary functions, Eigen products and a nested DualT for second derivatives.
+// arithmetic, the elementary functions, Eigen products and a nested DualT for second derivatives;
+// has_tangent tells constants from the rest; and rotate_constant_inertia, the position stage's
+// shortcut for an inertia without tangents, equals rotate_inertia's products.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -10,6 +12,7 @@
 
 #include "math/dual.hpp"
 #include "math/multi_dual.hpp"
+#include "math/spatial.hpp"
 
 namespace {
 
@@ -125,6 +128,78 @@ TEST(MultiDual, NestsForSecondDerivatives) {
   EXPECT_NEAR(f.d.d(0), -std::sin(0.4) * 1.69, 1e-15);         // ∂²f/∂x²
   EXPECT_NEAR(f.d.d(1), std::cos(0.4) * 2 * 1.3, 1e-15);       // ∂²f/∂x∂y
   EXPECT_EQ(kanesens::math::value_of(f), f.v.v);
+}
+
+TEST(MultiDual, HasTangentAtAnyDepth) {
+  using kanesens::math::has_tangent;
+  EXPECT_FALSE(has_tangent(1.5));
+  EXPECT_FALSE(has_tangent(MultiDual<10>(2.0)));
+  EXPECT_TRUE(has_tangent(MultiDual<10>::seeded(2.0, 9)));
+  EXPECT_FALSE(has_tangent(Dual(1.0, 0.0)));
+  EXPECT_TRUE(has_tangent(Dual(1.0, -1e-300)));
+  EXPECT_FALSE(has_tangent(DualT<Dual>(Dual(1.0, 0.0), Dual(0.0, 0.0))));
+  EXPECT_TRUE(has_tangent(DualT<Dual>(Dual(1.0, 0.0), Dual(0.0, 3.0))));  // inner tangent of the outer
+  EXPECT_TRUE(has_tangent(DualT<Dual>(Dual(1.0, 2.0), Dual(0.0, 0.0))));
+}
+
+// R I Rᵀ for a constant I and an R with tangents: rotate_constant_inertia against the general
+// products of rotate_inertia (values bit for bit, tangents to round-off) and against a
+// single-tangent Dual per direction.
+TEST(MultiDual, ConstantInertiaRotatesAsTheGeneralProduct) {
+  constexpr int N = 10;
+  using MD = MultiDual<N>;
+  using kanesens::math::SpatialInertia;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  // A rotation with tangents: R(θ) for three angles, each angle seeded in random directions.
+  double theta[3], seeds[3][N];
+  for (int k = 0; k < 3; ++k) {
+    theta[k] = 2 * u(rng);
+    for (double& s : seeds[k]) s = u(rng);
+  }
+  auto rotation = [&](auto a, auto b, auto c) {
+    using S = decltype(a);
+    const Eigen::Matrix<S, 3, 3> Rx = kanesens::math::axis_angle<S>(Eigen::Matrix<S, 3, 1>(S(1), S(0), S(0)), a);
+    const Eigen::Matrix<S, 3, 3> Ry = kanesens::math::axis_angle<S>(Eigen::Matrix<S, 3, 1>(S(0), S(1), S(0)), b);
+    const Eigen::Matrix<S, 3, 3> Rz = kanesens::math::axis_angle<S>(Eigen::Matrix<S, 3, 1>(S(0), S(0), S(1)), c);
+    return Eigen::Matrix<S, 3, 3>(Rz * Ry * Rx);
+  };
+  MD a[3];
+  for (int k = 0; k < 3; ++k) {
+    a[k] = MD(theta[k]);
+    a[k].set_tangents([&](int i) { return seeds[k][i]; }, N);
+  }
+  const Eigen::Matrix<MD, 3, 3> R = rotation(a[0], a[1], a[2]);
+  auto inertia = [](auto zero) {
+    using S = decltype(zero);
+    SpatialInertia<S> X;
+    X.m = S(2.5);
+    X.h = Eigen::Matrix<S, 3, 1>(S(0.3), S(-0.7), S(0.2));
+    X.I << S(0.9), S(0.11), S(-0.05), S(0.11), S(0.6), S(0.08), S(-0.05), S(0.08), S(0.4);
+    return X;
+  };
+  SpatialInertia<MD> fast, general;
+  kanesens::math::rotate_constant_inertia<MD>(inertia(MD(0.0)), R, fast);
+  kanesens::math::rotate_inertia<MD>(inertia(MD(0.0)), R, general);
+  Eigen::Matrix3d R0;
+  for (int k = 0; k < 9; ++k) R0(k) = R(k).v;
+  SpatialInertia<double> values;
+  kanesens::math::rotate_inertia<double>(inertia(0.0), R0, values);
+  for (int k = 0; k < 9; ++k) {
+    EXPECT_EQ(fast.I(k).v, values.I(k)) << k;  // the double path's values, bit for bit
+    EXPECT_EQ(fast.I(k).v, fast.I(k % 3 * 3 + k / 3).v) << k;  // symmetric
+  }
+  for (int i = 0; i < N; ++i) {
+    const auto Rd = rotation(Dual(theta[0], seeds[0][i]), Dual(theta[1], seeds[1][i]), Dual(theta[2], seeds[2][i]));
+    SpatialInertia<Dual> d;
+    kanesens::math::rotate_inertia<Dual>(inertia(Dual(0.0)), Rd, d);
+    for (int k = 0; k < 9; ++k) {
+      EXPECT_NEAR(fast.I(k).d(i), general.I(k).d(i), 1e-14) << "direction " << i << ", entry " << k;
+      EXPECT_NEAR(fast.I(k).d(i), d.I(k).d, 1e-14) << "direction " << i << ", entry " << k;
+    }
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(fast.h[k].d(i), d.h[k].d, 1e-14);
+    EXPECT_EQ(fast.m.d(i), 0.0);
+  }
 }
 
 }  // namespace

@@ -147,6 +147,7 @@ TEST(NoAllocation, EvaluateRhsMultiDual) {
   for (const auto& c : cases()) {
     SCOPED_TRACE(c.name);
     expect_no_allocation<math::MultiDual<8>>(c.text);
+    expect_no_allocation<math::MultiDual<10>>(c.text);
     expect_no_allocation<math::MultiDual<12>>(c.text);
   }
 }
