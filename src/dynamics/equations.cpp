@@ -159,9 +159,8 @@ void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
 }
 
 template <class S>
-bool solve_accelerations(const Model& m, Workspace<S>& ws) {
-  // M's factor is kept (solve_constrained_accelerations reuses it), u̇ = M⁻¹ f. On a
-  // multi-tangent scalar only M's value is factored (ws.value_factor).
+bool factor_mass_matrix(const Model& m, Workspace<S>& ws) {
+  // On a multi-tangent scalar only M's value is factored (ws.value_factor).
   const int n = m.nu;
   if constexpr (math::is_multi_dual_v<S>) {
     double* U = ws.value_factor.data();
@@ -182,6 +181,13 @@ bool solve_accelerations(const Model& m, Workspace<S>& ws) {
   } else {
     if (!math::cholesky_factor(ws.mass_matrix.data(), n, ws.cholesky.data(), n, n)) return false;
   }
+  return true;
+}
+
+template <class S>
+bool solve_accelerations(const Model& m, Workspace<S>& ws) {
+  // M's factor is kept (solve_constrained_accelerations reuses it), u̇ = M⁻¹ f.
+  if (!factor_mass_matrix(m, ws)) return false;
   ws.udot = ws.forcing;
   apply_mass_inverse(m, ws, ws.udot.data());
   return true;
@@ -343,6 +349,7 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q) {
   template void compute_mass_matrix<S>(const Model&, Workspace<S>&);                            \
   template void compute_body_wrenches<S>(const Model&, Workspace<S>&);                          \
   template void compute_forcing<S>(const Model&, Workspace<S>&, const S*, const S*);            \
+  template bool factor_mass_matrix<S>(const Model&, Workspace<S>&);                             \
   template bool solve_accelerations<S>(const Model&, Workspace<S>&);                            \
   template void apply_mass_inverse<S>(const Model&, Workspace<S>&, S*);                         \
   template void apply_mass_inverse<S>(const Model&, Workspace<S>&, S*, const int*, int);         \

@@ -44,6 +44,9 @@ void compute_body_wrenches(const Model& m, Workspace<S>& ws);
 // Returns false if M is not positive definite (a singular configuration or bad inertia).
 template <class S>
 bool solve_accelerations(const Model& m, Workspace<S>& ws);
+// M's factor alone, as solve_accelerations leaves it (for solves with other right-hand sides).
+template <class S>
+bool factor_mass_matrix(const Model& m, Workspace<S>& ws);
 // x ← M⁻¹ x (nu entries) with the factor of the last solve_accelerations. On a multi-tangent
 // scalar the factor is of M's value and the tangents solve M0 x_i = b_i − M_i x0 (the derivative
 // of M x = b), so no factorisation is done on tangents.

@@ -101,8 +101,7 @@ bool factor_mass_matrix_values(const Model& m, const Workspace<S>& ws, Workspace
   for (int j = 0; j < m.nconstraint_rows; ++j)
     for (int k = 0; k < m.nu; ++k) wd.constraint_matrix(j, k) = value_of(ws.constraint_matrix(j, k));
   compute_mass_matrix(m, wd);
-  wd.forcing.setZero();
-  return solve_accelerations(m, wd);
+  return factor_mass_matrix(m, wd);
 }
 
 AccelerationTangents::AccelerationTangents(const Model& m)

@@ -70,7 +70,7 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
       else R_C = R_PC;
     };
     Vec3<S> d = Vec3<S>::Zero();         // the joint's translation, parent frame
-    Vec3<S> first_a2 = Vec3<S>::Zero();  // universal: the second axis carried by the first rotation
+    Vec3<S> second_axis = Vec3<S>::Zero();  // universal: the second axis, world components
     switch (J.type) {
       case JointType::revolute:
         if (const int i = ws.joint_axis_index[ji]; i >= 0) {
@@ -89,8 +89,19 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
         d = qj[1] * a;
         break;
       case JointType::universal: {
+        const int i1 = ws.joint_axis_index[ji], i2 = ws.joint_axis2_index[ji];
+        if (i1 >= 0 && i2 >= 0) {
+          // Both axes coordinate axes: R_P R_first and then R_C, each rotating two columns.
+          using std::cos, std::sin;
+          Mat3<S> R_mid;
+          math::rotate_about_coordinate_axis<S>(P >= 0 ? R_P : ws.identity, i1, cos(qj[0]), sin(qj[0]), R_mid);
+          math::rotate_about_coordinate_axis<S>(R_mid, i2, cos(qj[1]), sin(qj[1]), R_C);
+          second_axis = R_mid.col(i2);
+          break;
+        }
         const Mat3<S> R_first = axis_angle<S>(a, qj[0]);
-        first_a2.noalias() = R_first * ws.joint_axis2[ji];
+        const Vec3<S> first_a2 = R_first * ws.joint_axis2[ji];
+        second_axis.noalias() = R_P * first_a2;
         rotate((R_first * axis_angle<S>(ws.joint_axis2[ji], qj[1])).eval());
         break;
       }
@@ -120,7 +131,7 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
       Vec6<S>& s = ws.partial[J.u_offset + k];
       auto dir = sp.rotation ? s.template head<3>() : s.template tail<3>();
       if (sp.in_child_frame) dir = R_C.col(sp.child_axis);
-      else if (J.type == JointType::universal && k == 1) dir.noalias() = R_P * first_a2;
+      else if (J.type == JointType::universal && k == 1) dir = second_axis;
       else if (J.type == JointType::planar && k < 2) dir.noalias() = R_P * (k == 0 ? ws.plane_e1[ji] : ws.plane_e2[ji]);
       else if (J.type == JointType::free && k < 3) dir = R_P.col(k);
       else if (ws.joint_axis_index[ji] >= 0) dir = R_P.col(ws.joint_axis_index[ji]);

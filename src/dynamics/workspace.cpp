@@ -35,6 +35,7 @@ Workspace<S>::Workspace(const Model& m)
       plane_e1(m.joints.size(), Vec3<S>::Zero()),
       plane_e2(m.joints.size(), Vec3<S>::Zero()),
       joint_axis_index(m.joints.size(), -1),
+      joint_axis2_index(m.joints.size(), -1),
       parent_point(m.joints.size()),
       child_point(m.joints.size()),
       joint_lever(m.joints.size()),
@@ -166,10 +167,15 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
     const Joint& J = m.joints[j];
     if (J.axis[0] >= 0) ws.joint_axis[j] = unit_or_zero<S>(vec3(ws, J.axis));
     if (J.axis2[0] >= 0) ws.joint_axis2[j] = unit_or_zero<S>(vec3(ws, J.axis2));
-    ws.joint_axis_index[j] = -1;
-    if (!has_tangent(ws.joint_axis[j]))  // a parameter's tangent would be lost on the fast path
-      for (int i = 0; i < 3; ++i)
-        if (ws.joint_axis[j] == Vec3<S>::Unit(i)) ws.joint_axis_index[j] = i;
+    // A coordinate axis takes the fast paths, unless a parameter's tangent would be lost there.
+    auto coordinate_index = [](const Vec3<S>& axis) {
+      if (!has_tangent(axis))
+        for (int i = 0; i < 3; ++i)
+          if (axis == Vec3<S>::Unit(i)) return i;
+      return -1;
+    };
+    ws.joint_axis_index[j] = coordinate_index(ws.joint_axis[j]);
+    ws.joint_axis2_index[j] = J.axis2[0] >= 0 ? coordinate_index(ws.joint_axis2[j]) : -1;
     ws.parent_point[j] = vec3(ws, J.parent_point);
     ws.child_point[j] = vec3(ws, J.child_point);
     ws.reference_point[J.child] = ws.child_point[j];

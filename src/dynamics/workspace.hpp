@@ -87,6 +87,7 @@ struct Workspace {
   std::vector<Vec3<S>> joint_axis, joint_axis2, plane_e1, plane_e2;  // nj, unit (0 if degenerate)
   std::vector<int> joint_axis_index;  // nj: i when joint_axis is exactly e_i (a rotation about it
                                       //     moves two columns), −1 otherwise or if it has a tangent
+  std::vector<int> joint_axis2_index;  // nj: the same for joint_axis2
   std::vector<Vec3<S>> parent_point, child_point;                    // nj
   std::vector<Vec3<S>> joint_lever;  // nj: Q_P to the joint's parent point at q = 0, parent frame
                                      //     (root joints: the parent point, world)

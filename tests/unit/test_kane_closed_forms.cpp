@@ -224,6 +224,7 @@ TEST(KaneClosedForms, JointKinematicsFollowSceneContract) {
       {"prismatic", "type: prismatic, axis: [0, 3, 4]", {0.35}},
       {"cylindrical", "type: cylindrical, axis: [1, 1, 0]", {-0.6, 0.2}},
       {"universal", "type: universal, axes: [[1, 0, 0], [0, 1, 1]]", {0.5, -0.8}},
+      {"universal_zx", "type: universal, axes: [[0, 0, 1], [1, 0, 0]]", {0.5, -0.8}},  // coordinate axes
       {"planar_z", "type: planar, axis: [0, 0, 1]", {0.2, -0.3, 1.1}},
       {"planar_x", "type: planar, axis: [1, 0, 0]", {0.2, -0.3, 1.1}},
       {"planar_tilted", "type: planar, axis: [1, 1, 1]", {0.2, -0.3, 1.1}},
@@ -256,7 +257,15 @@ scene:
       R = rot({1, 1, 0}, q[0]);
       d = q[1] * Vector3d(1, 1, 0).normalized();
     }
-    if (n == "universal") R = rot({1, 0, 0}, q[0]) * rot({0, 1, 1}, q[1]);
+    if (n.rfind("universal", 0) == 0) {
+      // The second axis is carried by the first rotation: the partial angular velocities are a1
+      // and rot(a1, q1) a2.
+      const Vector3d a1 = n == "universal" ? Vector3d(1, 0, 0) : Vector3d(0, 0, 1);
+      const Vector3d a2 = n == "universal" ? Vector3d(0, 1, 1).normalized() : Vector3d(1, 0, 0);
+      R = rot(a1, q[0]) * rot(a2, q[1]);
+      EXPECT_LT((ws.partial[0].head<3>() - a1).norm(), 1e-15) << n;
+      EXPECT_LT((ws.partial[1].head<3>() - rot(a1, q[0]) * a2).norm(), 1e-15) << n;
+    }
     if (n.rfind("planar", 0) == 0) {
       // e1 = unit(x − (x·n) n) (y if n ∥ x), e2 = n × e1; translation first, then rot(n, q3).
       const Vector3d nn = n == "planar_z"   ? Vector3d(0, 0, 1)
