@@ -136,6 +136,10 @@ def sensitivity_cost_few_constrained():
     return driver_table("sensitivity_cost", "sensitivity_cost_few_constrained.json")
 
 
+def sensitivity_cost_constants():
+    return driver_table("sensitivity_cost", "sensitivity_cost_constants.json")
+
+
 def jacobian_cost_arch():
     return driver_table("jacobian_cost", "jacobian_cost_arch.json")
 
@@ -820,6 +824,7 @@ TABLES = {
     "sensitivity_cost": sensitivity_cost, "sensitivity_cost_few": sensitivity_cost_few,
     "sensitivity_cost_few_constrained": sensitivity_cost_few_constrained,
     "sensitivity_cost_jacobian": sensitivity_cost_jacobian, "jacobian_cost_arch": jacobian_cost_arch,
+    "sensitivity_cost_constants": sensitivity_cost_constants,
     "sensitivity_cost_arch": sensitivity_cost_arch, "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,
