@@ -140,6 +140,10 @@ def sensitivity_cost_constants():
     return driver_table("sensitivity_cost", "sensitivity_cost_constants.json")
 
 
+def sensitivity_cost_residual():
+    return driver_table("sensitivity_cost", "sensitivity_cost_residual.json")
+
+
 def jacobian_cost_arch():
     return driver_table("jacobian_cost", "jacobian_cost_arch.json")
 
@@ -825,6 +829,7 @@ TABLES = {
     "sensitivity_cost_few_constrained": sensitivity_cost_few_constrained,
     "sensitivity_cost_jacobian": sensitivity_cost_jacobian, "jacobian_cost_arch": jacobian_cost_arch,
     "sensitivity_cost_constants": sensitivity_cost_constants,
+    "sensitivity_cost_residual": sensitivity_cost_residual,
     "sensitivity_cost_arch": sensitivity_cost_arch, "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,

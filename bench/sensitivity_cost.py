@@ -20,7 +20,7 @@ import subprocess
 import sys
 import tempfile
 
-from common import load_json, table_or_usage
+from common import chain_scene_yaml, load_json, table_or_usage
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 
@@ -53,7 +53,17 @@ scene: {root}/configs/rolling_disc.yaml
 time: {{end: 2.0, outputs: 21}}
 solver: {{rtol: 1.0e-9, atol: 1.0e-11, constraints: {{formulation: multipliers, stabilization: baumgarte}}}}
 """, "m,r,base.u0[0],base.u0[4],base.u0[5],base.q0[4]", ["bdf", "dop853"]),
+    "chain8_spatial": ("""kanesens: 1
+scene: {tmp}/chain8_spatial_scene.yaml
+time: {{end: 2.0, outputs: 21}}
+solver: {{rtol: 1.0e-8, atol: 1.0e-10}}
+""", "m,L,j1.q0,j2.q0,j3.u0,j4.q0", ["bdf", "dop853"]),
 }
+
+# Scenes made by the driver (written beside the studies): 8 links about alternating z and x
+# axes, released from 0.5 rad at the first joint (at rest it would hang still).
+GENERATED = {"chain8_spatial_scene.yaml":
+             lambda: chain_scene_yaml(8, axes="z,x").replace("{name: j1, type: revolute,", "{name: j1, q0: 0.5, type: revolute,")}
 
 
 def run(exe, study, method, sens, extra):
@@ -68,11 +78,14 @@ def run(exe, study, method, sens, extra):
 def measure(out, exes, runs, scenes, extra, methods_only=None, counts=None):
     result = {"command": "/usr/bin/python3 bench/sensitivity_cost.py " + " ".join(sys.argv[1:]), "runs": runs, "rows": []}
     with tempfile.TemporaryDirectory() as tmp:
+        for file, make in GENERATED.items():
+            with open(os.path.join(tmp, file), "w") as f:
+                f.write(make())
         for name in scenes:
             text, all_sens, methods = SCENES[name]
             study = os.path.join(tmp, name + ".yaml")
             with open(study, "w") as f:
-                f.write(text.format(root=ROOT))
+                f.write(text.format(root=ROOT, tmp=tmp))
             for method, ns in [(m, k) for m in methods if not methods_only or m in methods_only
                                for k in (counts or [len(all_sens.split(","))])]:
                 sens = ",".join(all_sens.split(",")[:ns])

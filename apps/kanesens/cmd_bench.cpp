@@ -6,7 +6,7 @@
 //   jacobian_dual  the exact Jacobian ∂ẏ/∂y column by column: nq + nu evaluate_rhs on Dual
 //   jacobian       the exact Jacobian as the solvers get it (KaneProblem::jacobian): columns in
 //                  blocks of up to 16, one multi-tangent pass per block
-//   jacobian_whole_rhs  the same with KaneProblem::JacobianMethod::whole_rhs (multi-tangent
+//   jacobian_whole_rhs  the same with KaneProblem::DerivativeMethod::whole_rhs (multi-tangent
 //                  passes of the whole right-hand side); `jacobian_method` says which the
 //                  default took
 //   jacobian_times one product J v as matrix-free Newton gets it (KaneProblem::jacobian_times):
@@ -157,13 +157,13 @@ int run_bench_rhs(const BenchOptions& o) {
       problem.jacobian(0.0, y.data(), ydot.data(), jac.data());
       sink += jac.back();
     }));
-    jacobian_method = problem.last_jacobian_method() == KaneProblem::JacobianMethod::residual ? "residual" : "whole_rhs";
-    problem.set_jacobian_method(KaneProblem::JacobianMethod::whole_rhs);
+    jacobian_method = problem.last_jacobian_method() == KaneProblem::DerivativeMethod::residual ? "residual" : "whole_rhs";
+    problem.set_jacobian_method(KaneProblem::DerivativeMethod::whole_rhs);
     timings.push_back(time_it("jacobian_whole_rhs", o, [&] {
       problem.jacobian(0.0, y.data(), ydot.data(), jac.data());
       sink += jac.back();
     }));
-    problem.set_jacobian_method(KaneProblem::JacobianMethod::residual);
+    problem.set_jacobian_method(KaneProblem::DerivativeMethod::residual);
     std::vector<double> v(static_cast<std::size_t>(n)), jv(v.size());
     for (int i = 0; i < n; ++i) v[static_cast<std::size_t>(i)] = std::sin(1.0 + i);
     timings.push_back(time_it("jacobian_times", o, [&] {

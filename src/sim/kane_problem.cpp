@@ -34,6 +34,7 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       u_full_(static_cast<std::size_t>(model.nu)),
       s_full_(static_cast<std::size_t>(model.nstate())) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
+  if (!model.evaluate_planar()) sensitivity_method_ = DerivativeMethod::residual;
   if (options_.stabilization == ConstraintOptions::Stabilization::baumgarte) {
     dynamics_.baumgarte_alpha = options_.alpha;
     dynamics_.baumgarte_beta = options_.beta;
@@ -219,9 +220,9 @@ bool KaneProblem::after_step(double t, double* y, double* const* s) {
 }
 
 void KaneProblem::jacobian(double t, const double* y, const double* ydot, double* J) {
-  last_jacobian_method_ = JacobianMethod::residual;
-  if (!embedded_ && jacobian_method_ == JacobianMethod::residual && residual_jacobian(t, y, ydot, J)) return;
-  last_jacobian_method_ = JacobianMethod::whole_rhs;
+  last_jacobian_method_ = DerivativeMethod::residual;
+  if (!embedded_ && jacobian_method_ == DerivativeMethod::residual && residual_jacobian(t, y, ydot, J)) return;
+  last_jacobian_method_ = DerivativeMethod::whole_rhs;
   const int n = size();
   jacobian_blocks_.for_each([&](auto& b) {
     for (int r = 0; r < n; ++r) {
@@ -238,20 +239,29 @@ void KaneProblem::jacobian(double t, const double* y, const double* ydot, double
 
 bool KaneProblem::residual_jacobian(double t, const double* y, const double* ydot, double* J) {
   const int n = size();
+  return residual_blocks(
+      jacobian_blocks_, t, y, ydot, [](int direction, int r) { return direction == r ? 1.0 : 0.0; },
+      [&](int direction, int r, double d) { J[static_cast<std::ptrdiff_t>(direction) * n + r] = d; });
+}
+
+// Residual passes of every block: direction k's tangent on y_r is seed(k, r), and store(k, r, d)
+// takes u̇'s (and q̇'s) tangent d. The first block forms the value factors, the others reuse them.
+template <class Seed, class Store>
+bool KaneProblem::residual_blocks(TangentBlocks& blocks, double t, const double* y, const double* ydot, Seed seed,
+                                  Store store) {
+  const int n = size();
   bool first = true, ok = true;
-  jacobian_blocks_.for_each([&](auto& b) {
+  blocks.for_each([&](auto& b) {
     if (!ok) return;
     for (int r = 0; r < n; ++r) {
       b.y[r].v = y[r];
-      b.y[r].set_tangents([&](int i) { return b.first + i == r ? 1.0 : 0.0; }, b.count);
+      b.y[r].set_tangents([&](int i) { return seed(b.first + i, r); }, b.count);
     }
     ok = residual_pass(b.ws, t, b.y.data(), ydot, b.ydot.data(), b.constraint_residual.data(), first);
     first = false;
     if (!ok) return;
-    for (int i = 0; i < b.count; ++i) {
-      double* column = J + static_cast<std::ptrdiff_t>(b.first + i) * n;
-      for (int r = 0; r < n; ++r) column[r] = b.ydot[r].d(i);
-    }
+    for (int i = 0; i < b.count; ++i)
+      for (int r = 0; r < n; ++r) store(b.first + i, r, b.ydot[r].d(i));
   });
   return ok;
 }
@@ -326,13 +336,15 @@ void KaneProblem::jacobian_times(double t, const double* y, const double*, const
 
 // Tangent i of a block is (s_i on y, e_p on its parameter — set by set_sample), so one pass gives
 // J s_i + ∂f/∂p_i for all the block's sensitivities.
-void KaneProblem::sensitivity_rhs_all(double t, const double* y, const double*, int, const double* const* s,
+void KaneProblem::sensitivity_rhs_all(double t, const double* y, const double* ydot, int, const double* const* s,
                                       double* const* sdot) {
   const int n = size();
+  last_sensitivity_method_ = DerivativeMethod::whole_rhs;
   if (single_tangent()) {
     for (int i = 0; i < num_sensitivities(); ++i) sensitivity_rhs(t, y, nullptr, i, s[i], sdot[i]);
     return;
   }
+  if (ydot && residual_sensitivities(t, y, ydot, s, sdot)) return;
   sensitivity_blocks_.for_each([&](auto& b) {
     for (int r = 0; r < n; ++r) {
       b.y[r].v = y[r];
@@ -344,12 +356,27 @@ void KaneProblem::sensitivity_rhs_all(double t, const double* y, const double*, 
   });
 }
 
-// f is the value part of the first sensitivity pass.
+bool KaneProblem::residual_sensitivities(double t, const double* y, const double* ydot, const double* const* s,
+                                         double* const* sdot) {
+  if (embedded_ || sensitivity_method_ != DerivativeMethod::residual) return false;
+  const bool ok = residual_blocks(
+      sensitivity_blocks_, t, y, ydot, [&](int i, int r) { return s[i][r]; },
+      [&](int i, int r, double d) { sdot[i][r] = d; });
+  if (ok) last_sensitivity_method_ = DerivativeMethod::residual;
+  return ok;
+}
+
+// f is the value part of the first whole sensitivity pass, or the residual passes' own f.
 void KaneProblem::rhs_with_sensitivities(double t, const double* y, int ns, const double* const* s, double* ydot,
                                          double* const* sdot) {
   if (ns == 0) {
     rhs(t, y, ydot);
     return;
+  }
+  if (!single_tangent() && !embedded_ && sensitivity_method_ == DerivativeMethod::residual) {
+    rhs(t, y, ydot);
+    last_sensitivity_method_ = DerivativeMethod::whole_rhs;
+    if (residual_sensitivities(t, y, ydot, s, sdot)) return;
   }
   sensitivity_rhs_all(t, y, nullptr, ns, s, sdot);
   if (single_tangent()) {

@@ -4,7 +4,7 @@
 //
 // Sensitivity i is with respect to a scene parameter or an initial condition (InputRef).
 //   Jacobian column j:      the tangent e_j on y, 0 on parameters, through Kane's equations as a
-//                           residual at the current accelerations (JacobianMethod below) or
+//                           residual at the current accelerations (DerivativeMethod below) or
 //                           through the whole right-hand side.
 //   sensitivity rhs i:      the right-hand side on Dual with tangent s_i on y and e_p on
 //                           parameter p (0 for an initial condition) = J s_i + ∂f/∂p.
@@ -72,11 +72,20 @@ class KaneProblem final : public OdeProblem {
   //              vanishes); otherwise whole_rhs.
   //   whole_rhs  multi-tangent passes of the whole right-hand side: the embedding formulation,
   //              redundant constraint rows, and tests comparing the two.
-  // Both are exact and agree to round-off.
-  enum class JacobianMethod { residual, whole_rhs };
-  void set_jacobian_method(JacobianMethod method) { jacobian_method_ = method; }
+  // Both are exact and agree to round-off. The sensitivity right-hand sides choose between the
+  // same two (set_sensitivity_method).
+  enum class DerivativeMethod { residual, whole_rhs };
+  void set_jacobian_method(DerivativeMethod method) { jacobian_method_ = method; }
   // The method the last jacobian() call took.
-  JacobianMethod last_jacobian_method() const { return last_jacobian_method_; }
+  DerivativeMethod last_jacobian_method() const { return last_jacobian_method_; }
+  // How the multi-tangent sensitivity right-hand sides (sensitivity_rhs_all,
+  // rhs_with_sensitivities) are formed, under the conditions of jacobian()'s residual method
+  // (else whole_rhs). The default is residual on the 3-D path, whose whole pass forms and
+  // factors M on the tangent scalar, and whole_rhs on the planar path, whose whole pass is the
+  // cheaper there (bench/results/sensitivity_cost_residual.json). Where ydot is not given
+  // (DOP853's stages) the residual method first evaluates f(t, y) on values.
+  void set_sensitivity_method(DerivativeMethod method) { sensitivity_method_ = method; }
+  DerivativeMethod last_sensitivity_method() const { return last_sensitivity_method_; }
   // J v from one pass of the right-hand side on Dual with tangent v on y (no parameter tangent):
   // the same equations, constraint paths and partition as rhs(). (The residual form of
   // jacobian() does not pay here: with one tangent, forming M's value factor per product costs
@@ -191,12 +200,19 @@ class KaneProblem final : public OdeProblem {
   int jacobian_blocks_size_ = -1;
   // The residual Jacobian: M's and A M⁻¹ Aᵀ's factors on values at the state, the tangent
   // solve, scratch (r's value (nu), λ (m)).
-  JacobianMethod jacobian_method_ = JacobianMethod::residual, last_jacobian_method_ = JacobianMethod::residual;
+  DerivativeMethod jacobian_method_ = DerivativeMethod::residual, last_jacobian_method_ = DerivativeMethod::residual;
+  DerivativeMethod sensitivity_method_ = DerivativeMethod::whole_rhs, last_sensitivity_method_ = DerivativeMethod::whole_rhs;
   dynamics::Workspace<double> jacobian_values_;
   dynamics::AccelerationTangents acceleration_tangents_;
   std::vector<double> residual_value_, jacobian_multipliers_;
   // False when the residual form does not apply at this state (J then holds no result).
   bool residual_jacobian(double t, const double* y, const double* ydot, double* J);
+  // The sensitivity right-hand sides by residual passes; false (sdot then holds no result) as
+  // residual_jacobian.
+  bool residual_sensitivities(double t, const double* y, const double* ydot, const double* const* s,
+                              double* const* sdot);
+  template <class Seed, class Store>
+  bool residual_blocks(TangentBlocks& blocks, double t, const double* y, const double* ydot, Seed seed, Store store);
   // One residual pass on ws at the seeded state y (dynamics/inverse_dynamics.hpp): out (nstate)
   // gets q̇ and u̇ with their tangents, c (m) is scratch. `factor`: form the value factors from
   // this pass (else those of the last one, at the same state, are used). False when the

@@ -1,4 +1,4 @@
-// The Jacobian by inverse dynamics (KaneProblem::JacobianMethod::residual: one
+// The Jacobian by inverse dynamics (KaneProblem::DerivativeMethod::residual: one
 // multi-tangent pass of Kane's equations as a residual at the accelerations of ydot, solved with
 // M's and A M⁻¹ Aᵀ's value factors, dynamics/inverse_dynamics.hpp) must equal the whole right-hand
 // side's multi-tangent passes to round-off, and the central differences of the right-hand side to
@@ -6,7 +6,8 @@
 // quaternions, multipliers with projection and with Baumgarte terms, rolling, general
 // constraints; and the method must actually be taken there. Where it does not apply — the
 // embedding, redundant constraint rows, a ydot that is not f(t, y) — jacobian() must take the
-// whole right-hand side and say so.
+// whole right-hand side and say so. The sensitivity right-hand sides by the same residual passes
+// (J s_i + ∂f/∂p_i with parameter tangents) must equal the whole passes' likewise.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,7 +24,7 @@
 namespace {
 
 using namespace kanesens::testing;
-using Method = KaneProblem::JacobianMethod;
+using Method = KaneProblem::DerivativeMethod;
 
 ConstraintOptions with(ConstraintOptions::Formulation f, ConstraintOptions::Stabilization s) {
   ConstraintOptions c;
@@ -174,6 +175,98 @@ TEST(ResidualJacobian, FallsBackWhereItDoesNotApply) {
     p.set_jacobian_method(Method::whole_rhs);
     const std::vector<double> Jw = jacobian_of(p, y, ydot);
     EXPECT_EQ(J, Jw);
+  }
+}
+
+// The sensitivity right-hand sides s_i ↦ J s_i + ∂f/∂p_i: as CVODES asks (ydot given), or as
+// DOP853's stages do (ydot null: f comes out in *f).
+std::vector<std::vector<double>> sensitivity_rhs(KaneProblem& p, const std::vector<double>& y,
+                                                 const std::vector<double>* ydot,
+                                                 const std::vector<std::vector<double>>& s, std::vector<double>* f) {
+  std::vector<std::vector<double>> out(s.size(), std::vector<double>(y.size()));
+  std::vector<const double*> in;
+  std::vector<double*> outp;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    in.push_back(s[i].data());
+    outp.push_back(out[i].data());
+  }
+  const int ns = static_cast<int>(s.size());
+  if (ydot) p.sensitivity_rhs_all(0.1, y.data(), ydot->data(), ns, in.data(), outp.data());
+  else p.rhs_with_sensitivities(0.1, y.data(), ns, in.data(), f->data(), outp.data());
+  return out;
+}
+
+// Sensitivity right-hand sides by residual passes (parameter tangents set per sample, the state
+// tangents s_i) against the whole right-hand side's passes, both as CVODES asks (ydot given) and
+// as DOP853's stages do (f and the sensitivities from one call); and the default per path.
+TEST(ResidualSensitivities, MatchWholeRhsPasses) {
+  using F = ConstraintOptions::Formulation;
+  using St = ConstraintOptions::Stabilization;
+  struct SensCase {
+    std::string scene;
+    ConstraintOptions constraints;
+    std::vector<std::string> sensitivities;
+    Method default_method;
+  };
+  const std::vector<SensCase> cases = {
+      {"configs/arm_3d.yaml", {}, {"m1", "m2", "m3", "k_tele", "c_tele", "wrist.q0[0]"}, Method::residual},
+      {"configs/spinning_top.yaml", {}, {"m", "r", "h", "l", "tip.u0[2]", "tip.q0[1]"}, Method::residual},
+      {"configs/rolling_disc.yaml", with(F::multipliers, St::baumgarte),
+       {"m", "r", "base.u0[0]", "base.u0[4]", "base.u0[5]", "base.q0[4]"}, Method::residual},
+      {"configs/four_bar.yaml", with(F::multipliers, St::projection), {"r", "c", "b", "m1", "m2", "m3"},
+       Method::whole_rhs},
+      {"configs/nlink_chain_4.yaml", {}, {"m", "L", "c", "j1.q0", "j2.q0", "j1.u0", "j3.u0", "j4.q0", "k"},
+       Method::whole_rhs},
+  };
+  std::mt19937 rng(29);
+  for (const SensCase& c : cases) {
+    SCOPED_TRACE(c.scene);
+    const Model m = load(c.scene);
+    std::vector<InputRef> refs;
+    for (const std::string& name : c.sensitivities) refs.push_back(resolve_input(m, name, "test"));
+    KaneProblem p(m, refs, c.constraints);
+    p.set_sample(SampleInputs(m));
+    const int n = p.size(), ns = static_cast<int>(refs.size());
+    const std::vector<double> y = test_state(p, rng, 0.05);
+    std::vector<double> ydot(static_cast<std::size_t>(n));
+    p.rhs(0.1, y.data(), ydot.data());
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::vector<std::vector<double>> s(static_cast<std::size_t>(ns), std::vector<double>(static_cast<std::size_t>(n)));
+    for (auto& si : s)
+      for (double& v : si) v = u(rng);
+    auto run = [&](bool with_f, std::vector<double>* f) { return sensitivity_rhs(p, y, with_f ? nullptr : &ydot, s, f); };
+    p.set_sensitivity_method(Method::whole_rhs);
+    std::vector<double> f_whole(ydot.size()), f_res(ydot.size());
+    const auto whole = run(false, nullptr);
+    EXPECT_EQ(p.last_sensitivity_method(), Method::whole_rhs);
+    const auto whole_f = run(true, &f_whole);
+    p.set_sensitivity_method(Method::residual);
+    const auto res = run(false, nullptr);
+    EXPECT_EQ(p.last_sensitivity_method(), Method::residual);
+    const auto res_f = run(true, &f_res);
+    EXPECT_EQ(p.last_sensitivity_method(), Method::residual);
+    EXPECT_EQ(f_res, ydot) << "DOP853's f by the residual method is rhs()'s";
+    double err = 0, err_f = 0, scale = 1;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      scale = std::max(scale, max_abs(whole[i]));
+      EXPECT_EQ(whole[i], whole_f[i]) << "the whole passes do not depend on how they are called";
+      for (std::size_t r = 0; r < ydot.size(); ++r) {
+        err = std::max(err, std::abs(res[i][r] - whole[i][r]));
+        err_f = std::max(err_f, std::abs(res_f[i][r] - whole[i][r]));
+      }
+    }
+    EXPECT_LT(err / scale, 1e-12);
+    EXPECT_LT(err_f / scale, 1e-12);
+    for (std::size_t r = 0; r < ydot.size(); ++r)
+      EXPECT_NEAR(f_whole[r], ydot[r], 1e-12 * std::max(1.0, max_abs(ydot)));
+
+    KaneProblem fresh(m, refs, c.constraints);
+    fresh.set_sample(SampleInputs(m));
+    std::vector<double> f(ydot.size());
+    sensitivity_rhs(fresh, y, nullptr, s, &f);
+    EXPECT_EQ(fresh.last_sensitivity_method(), c.default_method);
+    std::printf("%s: residual sensitivity rhs vs whole %.2e (from DOP853's call %.2e), %d sensitivities\n",
+                c.scene.c_str(), err / scale, err_f / scale, ns);
   }
 }
 
