@@ -144,6 +144,21 @@ def sensitivity_cost_residual():
     return driver_table("sensitivity_cost", "sensitivity_cost_residual.json")
 
 
+def sensitivity_cost_dense_lu():
+    return driver_table("sensitivity_cost", "sensitivity_cost_dense_lu.json")
+
+
+def dense_lu_solve():
+    p = RESULTS / "dense_lu_solve.json"
+    d = load(p)
+    rows = [[r["n"], f"{r['sundials_dense_ns']:.0f}", f"{r['kanesens_dense_lu_ns']:.0f}",
+             f"{r['sundials_dense_ns'] / r['kanesens_dense_lu_ns']:.1f}", f"{r['eigen_partial_piv_lu_direct_ns']:.0f}"]
+            for r in d["rows"]]
+    return (f"Median over {d['rounds']} alternating rounds of one solve with a factored n×n matrix (ns).\n\n" +
+            md(["n", "SUNLinSol_Dense", "kanesens (Eigen's PartialPivLU)", "speed-up", "PartialPivLU called directly"], rows) +
+            source(p))
+
+
 def jacobian_cost_arch():
     return driver_table("jacobian_cost", "jacobian_cost_arch.json")
 
@@ -830,6 +845,8 @@ TABLES = {
     "sensitivity_cost_jacobian": sensitivity_cost_jacobian, "jacobian_cost_arch": jacobian_cost_arch,
     "sensitivity_cost_constants": sensitivity_cost_constants,
     "sensitivity_cost_residual": sensitivity_cost_residual,
+    "sensitivity_cost_dense_lu": sensitivity_cost_dense_lu,
+    "dense_lu_solve": dense_lu_solve,
     "sensitivity_cost_arch": sensitivity_cost_arch, "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,

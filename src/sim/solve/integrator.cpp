@@ -144,7 +144,7 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
     check_ls_flag(CVodeSetPreconditioner(mem.get(), identity_psetup, identity_psolve), "CVodeSetPreconditioner");
   } else if (o.iteration == Iteration::newton) {
     A = make_dense_matrix(n_states, ctx.get());
-    LS = make_dense_solver(y.get(), A.get(), ctx.get());
+    LS = make_dense_solver(n_states, ctx.get());
     check_ls_flag(CVodeSetLinearSolver(mem.get(), LS.get(), A.get()), "CVodeSetLinearSolver");
     if (o.jacobian == JacobianKind::exact) {
       check_ls_flag(CVodeSetJacFn(mem.get(), jac_trampoline), "CVodeSetJacFn");

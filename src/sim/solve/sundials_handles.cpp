@@ -1,7 +1,7 @@
 #include "sim/solve/sundials_handles.hpp"
 
 #include <cvodes/cvodes_ls.h>
-#include <sunlinsol/sunlinsol_dense.h>
+#include "sim/solve/dense_lu_solver.hpp"
 #include <sunlinsol/sunlinsol_spgmr.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
@@ -67,9 +67,9 @@ MatrixPtr make_dense_matrix(int n, SUNContext ctx) {
   return MatrixPtr(m);
 }
 
-LinearSolverPtr make_dense_solver(N_Vector y, SUNMatrix A, SUNContext ctx) {
-  SUNLinearSolver ls = SUNLinSol_Dense(y, A, ctx);
-  check_ptr(ls, "SUNLinSol_Dense");
+LinearSolverPtr make_dense_solver(int n, SUNContext ctx) {
+  SUNLinearSolver ls = make_dense_lu_solver(n, ctx);
+  check_ptr(ls, "make_dense_lu_solver");
   return LinearSolverPtr(ls);
 }
 

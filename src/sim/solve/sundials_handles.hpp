@@ -68,7 +68,8 @@ using CvodeMemPtr = std::unique_ptr<void, detail::CvodeFree>;
 ContextPtr make_context();
 NVectorPtr make_serial_vector(int n, SUNContext ctx);
 MatrixPtr make_dense_matrix(int n, SUNContext ctx);
-LinearSolverPtr make_dense_solver(N_Vector y, SUNMatrix A, SUNContext ctx);
+// LU with partial pivoting for an n×n SUNDenseMatrix (sim/solve/dense_lu_solver.hpp).
+LinearSolverPtr make_dense_solver(int n, SUNContext ctx);
 // Matrix-free GMRES (SUNLinSol_SPGMR), left preconditioning, SUNDIALS's default Krylov dimension.
 LinearSolverPtr make_gmres_solver(N_Vector y, SUNContext ctx);
 CvodeMemPtr make_cvode(int lmm, SUNContext ctx);

@@ -1,0 +1,114 @@
+// Newton's dense linear solver (sim/solve/dense_lu_solver.hpp), through SUNDIALS's generic calls
+// as CVODES makes them: its solves agree with Eigen's full-pivoting LU on random matrices and on
+// ones whose diagonal vanishes (pivoting needed), in place and not; a zero or non-finite pivot
+// is a recoverable SUNLS_LUFACT_FAIL; a matrix of another size is refused.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <nvector/nvector_serial.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include "sim/solve/sundials_handles.hpp"
+#include "../support/layers.hpp"
+
+namespace {
+
+using namespace kanesens::testing;
+
+// One solver of size n with its matrix and vectors.
+struct Solver {
+  explicit Solver(int size)
+      : n(size),
+        ctx(make_context()),
+        ls(make_dense_solver(n, ctx.get())),
+        A(make_dense_matrix(n, ctx.get())),
+        x(make_serial_vector(n, ctx.get())),
+        b(make_serial_vector(n, ctx.get())) {}
+  int setup(const Eigen::MatrixXd& M) {
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) SM_ELEMENT_D(A.get(), i, j) = M(i, j);
+    return SUNLinSolSetup(ls.get(), A.get());
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& rhs, bool in_place = false) {
+    Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(b.get()), n) = rhs;
+    N_Vector out = in_place ? b.get() : x.get();
+    EXPECT_EQ(SUNLinSolSolve(ls.get(), A.get(), out, b.get(), 0.0), SUNLS_SUCCESS);
+    if (!in_place) {
+      EXPECT_EQ(Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(b.get()), n), rhs) << "b kept";
+    }
+    return Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(out), n);
+  }
+  int n;
+  ContextPtr ctx;
+  LinearSolverPtr ls;
+  MatrixPtr A;
+  NVectorPtr x, b;
+};
+
+TEST(DenseLuSolver, SolvesAsEigensFullPivotingLu) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n : {1, 2, 3, 5, 10, 13, 16, 32, 57}) {
+    SCOPED_TRACE(n);
+    Solver s(n);
+    EXPECT_EQ(SUNLinSolGetType(s.ls.get()), SUNLINEARSOLVER_DIRECT);
+    EXPECT_EQ(SUNLinSolInitialize(s.ls.get()), SUNLS_SUCCESS);
+    for (int trial = 0; trial < 20; ++trial) {
+      Eigen::MatrixXd M(n, n);
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) M(i, j) = u(rng);
+      // Half the trials: I − γJ as CVODES forms it (diagonally dominant); half: no structure.
+      if (trial % 2 == 0) M = Eigen::MatrixXd::Identity(n, n) - 0.1 * M;
+      Eigen::VectorXd rhs(n);
+      for (int i = 0; i < n; ++i) rhs[i] = u(rng);
+      ASSERT_EQ(s.setup(M), SUNLS_SUCCESS);
+      const Eigen::VectorXd ref = M.fullPivLu().solve(rhs);
+      const Eigen::VectorXd sv = M.jacobiSvd().singularValues();
+      const double tol = 1e-14 * (sv(0) / sv(n - 1)) * ref.norm();
+      EXPECT_LE((s.solve(rhs) - ref).norm(), tol) << "trial " << trial;
+      EXPECT_LE((s.solve(rhs, true) - ref).norm(), tol) << "trial " << trial << ", in place";
+      EXPECT_EQ(SUNLinSolLastFlag(s.ls.get()), SUNLS_SUCCESS);
+    }
+  }
+}
+
+TEST(DenseLuSolver, PivotsWhereTheDiagonalVanishes) {
+  // A permutation times a scaling: every diagonal entry is 0, so each step must swap rows.
+  const int n = 6;
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) M(i, (i + 2) % n) = 1.0 + i;
+  Eigen::VectorXd rhs(n);
+  for (int i = 0; i < n; ++i) rhs[i] = std::sin(1.0 + i);
+  Solver s(n);
+  ASSERT_EQ(s.setup(M), SUNLS_SUCCESS);
+  EXPECT_LE((M * s.solve(rhs) - rhs).norm(), 1e-15);
+}
+
+TEST(DenseLuSolver, ReportsAZeroOrNonFinitePivotAndAWrongSize) {
+  Solver s(3);
+  Eigen::MatrixXd zero_column = Eigen::Matrix3d::Identity();
+  zero_column.col(1).setZero();
+  EXPECT_EQ(s.setup(zero_column), SUNLS_LUFACT_FAIL);
+  EXPECT_EQ(SUNLinSolLastFlag(s.ls.get()), SUNLS_LUFACT_FAIL);
+  Eigen::MatrixXd with_nan = Eigen::Matrix3d::Identity();
+  with_nan(2, 2) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(s.setup(with_nan), SUNLS_LUFACT_FAIL);
+  Eigen::MatrixXd with_inf = Eigen::Matrix3d::Identity();
+  with_inf(1, 0) = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(s.setup(with_inf), SUNLS_LUFACT_FAIL);
+  // Recovers on the next good matrix.
+  EXPECT_EQ(s.setup(Eigen::Matrix3d::Identity() * 2), SUNLS_SUCCESS);
+  EXPECT_EQ(s.solve(Eigen::Vector3d(2, 4, 6)), Eigen::VectorXd(Eigen::Vector3d(1, 2, 3)));
+
+  MatrixPtr other = make_dense_matrix(4, s.ctx.get());
+  EXPECT_EQ(SUNLinSolSetup(s.ls.get(), other.get()), SUNLS_ILL_INPUT);
+  long lenrw = 0, leniw = 0;
+  EXPECT_EQ(SUNLinSolSpace(s.ls.get(), &lenrw, &leniw), SUNLS_SUCCESS);
+  EXPECT_EQ(lenrw, 9);
+}
+
+}  // namespace
