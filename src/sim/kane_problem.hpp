@@ -91,6 +91,10 @@ class KaneProblem final : public OdeProblem {
   // jacobian() does not pay here: with one tangent, forming M's value factor per product costs
   // more than the mass matrix's tangent saves.)
   bool has_jacobian_times() const override { return true; }
+  // False where rhs() finds u̇ by the articulated-body recursion (O(n) on double): J v's dual
+  // pass forms and factors M instead (O(n³)), so Newton–Krylov with exact products loses to
+  // the dense solver there (docs/explanation/solvers.md).
+  bool jacobian_times_cheap() const override { return !articulated_rhs_; }
   void jacobian_times(double t, const double* y, const double* ydot, const double* v, double* Jv) override;
   int num_sensitivities() const override { return static_cast<int>(sens_.size()); }
   void initial_sensitivity(int i, double* s0) const override;
@@ -184,6 +188,7 @@ class KaneProblem final : public OdeProblem {
   std::string embedding_failure(double t, const char* what) const;
 
   bool embedded_ = false;
+  bool articulated_rhs_ = false;  // the values workspace evaluates u̇ by the articulated-body recursion
   dynamics::EmbeddingSets sets0_;  // the partition chosen at t0
   // The partition in use and κ when it was chosen: initial_state() restores sets0_ (the
   // integrator starts every run there), after_step() re-chooses.

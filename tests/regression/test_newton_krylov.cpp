@@ -81,11 +81,12 @@ class Crank : public ks::OdeProblem {
 };
 
 ks::Trajectory simulate(const ks::Model& m, ks::LinearSolver ls, const std::vector<double>& times,
-                        const std::vector<ks::InputRef>& sens = {}) {
+                        const std::vector<ks::InputRef>& sens = {}, ks::JacobianKind jacobian = ks::JacobianKind::exact) {
   SCOPED_TRACE(m.name);
   ks::KaneProblem problem(m, sens);
   ks::SolverOptions o;
   o.linear_solver = ls;
+  o.jacobian = jacobian;
   ks::Integrator integ(o);
   ks::Trajectory tr;
   ks::RecordFlags flags;
@@ -194,17 +195,23 @@ TEST(NewtonKrylov, JacobiansOfLoopsAndChainsAreDense) {
 }
 
 // linear_solver: auto takes krylov for a large mechanism whose Jacobian's spectral radius is
-// small (the N four-bar, N = 30: 122 states), dense for a small one and for a large stiff one
-// (a 64-link chain with stiff overdamped joints: radius ~5e4/s, where GMRES without a
-// preconditioner needs many iterations).
+// small (the N four-bar, N = 30: 122 states), dense for a small one. On a 64-link chain, whose
+// right-hand side is the articulated-body recursion, an exact J v costs far more than the
+// right-hand side: dense there, krylov with difference-quotient products (jacobian: dq) — but
+// dense again when the chain is stiff (stiff overdamped joints: radius ~5e4/s, where GMRES
+// without a preconditioner needs many iterations).
 TEST(NewtonKrylov, AutoChoosesBySizeAndStiffness) {
   const std::vector<double> t = times(0.02, 3);
   EXPECT_EQ(simulate(model_from_text(n_four_bar(30)), ks::LinearSolver::automatic, t).result.linear_solver,
             ks::LinearSolver::krylov);
   EXPECT_EQ(simulate(model_from_text(chain(64)), ks::LinearSolver::automatic, t).result.linear_solver,
+            ks::LinearSolver::dense);
+  EXPECT_EQ(simulate(model_from_text(chain(64)), ks::LinearSolver::automatic, t, {}, ks::JacobianKind::dq)
+                .result.linear_solver,
             ks::LinearSolver::krylov);
   EXPECT_EQ(simulate(model_from_text(n_four_bar(5)), ks::LinearSolver::automatic, t).result.linear_solver,
             ks::LinearSolver::dense);
-  EXPECT_EQ(simulate(model_from_text(chain(64, 1e5, 1e3)), ks::LinearSolver::automatic, t).result.linear_solver,
+  EXPECT_EQ(simulate(model_from_text(chain(64, 1e5, 1e3)), ks::LinearSolver::automatic, t, {}, ks::JacobianKind::dq)
+                .result.linear_solver,
             ks::LinearSolver::dense);
 }

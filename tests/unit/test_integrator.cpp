@@ -419,6 +419,8 @@ class Decays : public ks::OdeProblem {
   void jacobian_times(double, const double*, const double*, const double* v, double* Jv) override {
     for (int i = 0; i < size(); ++i) Jv[i] = -a_[static_cast<std::size_t>(i)] * v[i];
   }
+  bool jacobian_times_cheap() const override { return cheap_; }
+  bool cheap_ = true;
 
  private:
   std::vector<double> a_;
@@ -426,7 +428,9 @@ class Decays : public ks::OdeProblem {
 }  // namespace
 
 // auto: krylov for a large problem whose Jacobian has a small spectral radius, dense for a small
-// or a stiff one (the radius estimated by power iteration at t0, exact J v or differences).
+// or a stiff one (the radius estimated by power iteration at t0, exact J v or differences), and
+// dense for one whose exact J v costs far more than its right-hand side unless J v is a
+// difference quotient.
 TEST(Integrator, AutoLinearSolverBySizeAndStiffness) {
   const std::vector<double> times{0, 0.1};
   auto noop = [](int, double, const double*, const double* const*) {};
@@ -441,6 +445,10 @@ TEST(Integrator, AutoLinearSolverBySizeAndStiffness) {
     EXPECT_EQ(a.linear_solver, ks::LinearSolver::krylov);
     EXPECT_EQ(b.linear_solver, ks::LinearSolver::dense);
     EXPECT_EQ(c.linear_solver, ks::LinearSolver::dense);
+    slow.cheap_ = false;
+    const ks::IntegrationResult d = ks::integrate(slow, o, times, noop);
+    ASSERT_TRUE(d.ok()) << d.message;
+    EXPECT_EQ(d.linear_solver, j == ks::JacobianKind::exact ? ks::LinearSolver::dense : ks::LinearSolver::krylov);
   }
   o.method = ks::Method::dop853;
   Decays slow(ks::kKrylovMinStates, 1.0);

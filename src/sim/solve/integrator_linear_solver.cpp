@@ -54,6 +54,7 @@ LinearSolver Integrator::Impl::choose_linear_solver(OdeProblem& problem, double 
   if (options.jacobian == JacobianKind::exact) {
     if (!problem.has_jacobian_times()) return LinearSolver::dense;
     if (!problem.has_jacobian()) return LinearSolver::krylov;
+    if (!problem.jacobian_times_cheap()) return LinearSolver::dense;
   }
   if (size < kKrylovMinStates) return LinearSolver::dense;
   double rate = std::numeric_limits<double>::infinity();

@@ -54,6 +54,10 @@ class OdeProblem {
   // Newton–Krylov: CVODES's GMRES calls it once per Krylov iteration). Only called when
   // has_jacobian_times() and the options ask for an exact Jacobian with the krylov solver.
   virtual bool has_jacobian_times() const { return false; }
+  // Whether one exact J v costs about as much as a few right-hand sides, as the krylov solver's
+  // automatic choice assumes; false where rhs() takes a cheaper algorithm than J v's pass can
+  // (linear_solver: auto then keeps dense when J v is exact).
+  virtual bool jacobian_times_cheap() const { return true; }
   virtual void jacobian_times(double /*t*/, const double* /*y*/, const double* /*ydot*/, const double* /*v*/,
                               double* /*Jv*/) {}
 
