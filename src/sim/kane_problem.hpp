@@ -81,9 +81,9 @@ class KaneProblem final : public OdeProblem {
   // How the multi-tangent sensitivity right-hand sides (sensitivity_rhs_all,
   // rhs_with_sensitivities) are formed, under the conditions of jacobian()'s residual method
   // (else whole_rhs). The default is residual on the 3-D path, whose whole pass forms and
-  // factors M on the tangent scalar, and whole_rhs on the planar path, whose whole pass is the
-  // cheaper there (bench/results/sensitivity_cost_residual.json). Where ydot is not given
-  // (DOP853's stages) the residual method first evaluates f(t, y) on values.
+  // factors M on the tangent scalar (bench/results/sensitivity_cost_residual.json), and
+  // whole_rhs on the planar path, where the residual passes were not measured faster. Where
+  // ydot is not given (DOP853's stages) the residual method first evaluates f(t, y) on values.
   void set_sensitivity_method(DerivativeMethod method) { sensitivity_method_ = method; }
   DerivativeMethod last_sensitivity_method() const { return last_sensitivity_method_; }
   // J v from one pass of the right-hand side on Dual with tangent v on y (no parameter tangent):
