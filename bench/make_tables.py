@@ -148,6 +148,10 @@ def sensitivity_cost_dense_lu():
     return driver_table("sensitivity_cost", "sensitivity_cost_dense_lu.json")
 
 
+def sensitivity_cost_planar_recursion():
+    return driver_table("sensitivity_cost", "sensitivity_cost_planar_recursion.json")
+
+
 def dense_lu_solve():
     p = RESULTS / "dense_lu_solve.json"
     d = load(p)
@@ -847,6 +851,7 @@ TABLES = {
     "sensitivity_cost_residual": sensitivity_cost_residual,
     "sensitivity_cost_dense_lu": sensitivity_cost_dense_lu,
     "dense_lu_solve": dense_lu_solve,
+    "sensitivity_cost_planar_recursion": sensitivity_cost_planar_recursion,
     "sensitivity_cost_arch": sensitivity_cost_arch, "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,

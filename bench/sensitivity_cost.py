@@ -53,6 +53,11 @@ scene: {root}/configs/rolling_disc.yaml
 time: {{end: 2.0, outputs: 21}}
 solver: {{rtol: 1.0e-9, atol: 1.0e-11, constraints: {{formulation: multipliers, stabilization: baumgarte}}}}
 """, "m,r,base.u0[0],base.u0[4],base.u0[5],base.q0[4]", ["bdf", "dop853"]),
+    "chain16_planar": ("""kanesens: 1
+scene: {root}/bench/configs/nlink_chain_16.yaml
+time: {{end: 2.0, outputs: 21}}
+solver: {{rtol: 1.0e-8, atol: 1.0e-10}}
+""", "m,L,j1.q0,j2.q0,j1.u0,j3.q0", ["bdf", "dop853"]),
     "chain8_spatial": ("""kanesens: 1
 scene: {tmp}/chain8_spatial_scene.yaml
 time: {{end: 2.0, outputs: 21}}

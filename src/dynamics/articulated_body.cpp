@@ -15,6 +15,8 @@
 #include <Eigen/Cholesky>
 
 #include "dynamics/equations.hpp"
+#include "math/dual2.hpp"
+#include "math/multi_dual.hpp"
 #include "dynamics/planar_stages.hpp"
 
 namespace kanesens::dynamics {
@@ -277,81 +279,84 @@ bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
 
 // The same on the planar path (math/planar.hpp): motion and force vectors (ω_z, x, y), an
 // articulated inertia a symmetric 3×3 (entries 00, 11, 22, 01, 02, 12), every joint of one speed.
+// On every scalar: dual and multi-tangent passes of a planar chain (J v, sensitivities) then cost
+// O(n) like the values, where forming and factoring M on the tangent scalar costs O(n³).
 // With r = Q_C − Q_P in the plane, X = [1 0 0; −r_y 1 0; r_x 0 1] moves motion to the child and
 // Xᵀ force to the parent; Xᵀ I X keeps the translational block and changes the first row.
 namespace detail {
-bool articulated_body_accelerations_planar(const Model& m, Workspace<double>& ws) {
+template <class S>
+bool articulated_body_accelerations_planar(const Model& m, Workspace<S>& ws) {
   for (int b = 0; b < m.nbody(); ++b) {
-    const PlanarInertia<double>& I = ws.inertia_planar[b];
-    ws.articulated_inertia_planar[b] = {I.I, I.m, I.m, -I.hy, I.hx, 0};
-    const PVec<double>& w = ws.wrench_planar[b];
+    const PlanarInertia<S>& I = ws.inertia_planar[b];
+    ws.articulated_inertia_planar[b] = {I.I, I.m, I.m, -I.hy, I.hx, S(0)};
+    const PVec<S>& w = ws.wrench_planar[b];
     ws.articulated_bias_planar[b] = {-w[0], -w[1], -w[2]};
   }
-  double* x = ws.udot.data();  // u/D on the way in, u̇ out
+  S* x = ws.udot.data();  // u/D on the way in, u̇ out
   for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
     const Joint& J = m.joints[*it];
     const int k0 = J.u_offset;
-    const std::array<double, 6>& I = ws.articulated_inertia_planar[J.child];
-    const std::array<double, 3>& p = ws.articulated_bias_planar[J.child];
-    const double I00 = I[0], I11 = I[1], I22 = I[2], I01 = I[3], I02 = I[4], I12 = I[5];
-    const double rx = ws.joint_offset[*it][0], ry = ws.joint_offset[*it][1];
-    double U0 = 0, U1 = 0, U2 = 0, d = 0, u = 0;
+    const std::array<S, 6>& I = ws.articulated_inertia_planar[J.child];
+    const std::array<S, 3>& p = ws.articulated_bias_planar[J.child];
+    const S I00 = I[0], I11 = I[1], I22 = I[2], I01 = I[3], I02 = I[4], I12 = I[5];
+    const S rx = ws.joint_offset[*it][0], ry = ws.joint_offset[*it][1];
+    S U0 = S(0), U1 = S(0), U2 = S(0), d = S(0), u = S(0);
     if (J.nu == 1) {
-      const PVec<double>& s = ws.partial_planar[k0];
+      const PVec<S>& s = ws.partial_planar[k0];
       U0 = I00 * s[0] + I01 * s[1] + I02 * s[2];
       U1 = I01 * s[0] + I11 * s[1] + I12 * s[2];
       U2 = I02 * s[0] + I12 * s[1] + I22 * s[2];
       d = s[0] * U0 + s[1] * U1 + s[2] * U2;
-      if (!(d > 0)) return false;
+      if (!(math::value_of(d) > 0)) return false;
       u = ws.forcing[k0] - (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]);
     }
-    const double dinv = J.nu == 1 ? 1.0 / d : 0.0;
+    const S dinv = J.nu == 1 ? S(1.0 / d) : S(0);
     // U' = Xᵀ U, W = U'/D.
-    const double V0 = J.parent >= 0 ? U0 + rx * U2 - ry * U1 : U0;
-    const double W0 = V0 * dinv, W1 = U1 * dinv, W2 = U2 * dinv, ud = u * dinv;
+    const S V0 = J.parent >= 0 ? S(U0 + rx * U2 - ry * U1) : U0;
+    const S W0 = V0 * dinv, W1 = U1 * dinv, W2 = U2 * dinv, ud = u * dinv;
     if (J.nu == 1) {
       x[k0] = ud;
       ws.articulated_columns_planar[k0] = {W0, W1, W2};
     }
     if (J.parent < 0) continue;
     // Xᵀ I X − U' Wᵀ and Xᵀ p + U' u/D, added to the parent.
-    const double S01 = I01 - ry * I11 + rx * I12, S02 = I02 - ry * I12 + rx * I22;
-    const double S00 = I00 - ry * I01 + rx * I02 - ry * S01 + rx * S02;
-    std::array<double, 6>& P = ws.articulated_inertia_planar[J.parent];
+    const S S01 = I01 - ry * I11 + rx * I12, S02 = I02 - ry * I12 + rx * I22;
+    const S S00 = I00 - ry * I01 + rx * I02 - ry * S01 + rx * S02;
+    std::array<S, 6>& P = ws.articulated_inertia_planar[J.parent];
     P[0] += S00 - V0 * W0;
     P[1] += I11 - U1 * W1;
     P[2] += I22 - U2 * W2;
     P[3] += S01 - V0 * W1;
     P[4] += S02 - V0 * W2;
     P[5] += I12 - U1 * W2;
-    std::array<double, 3>& pP = ws.articulated_bias_planar[J.parent];
+    std::array<S, 3>& pP = ws.articulated_bias_planar[J.parent];
     pP[0] += p[0] + rx * p[2] - ry * p[1] + V0 * ud;
     pP[1] += p[1] + U1 * ud;
     pP[2] += p[2] + U2 * ud;
   }
   // Roots to leaves: u̇ = u/D − Wᵀ δa_P, δa_C = X δa_P + s u̇, δa carried along a chain.
-  double a0 = 0, a1 = 0, a2 = 0;
+  S a0 = S(0), a1 = S(0), a2 = S(0);
   int carried = -1;
   for (int ji : m.joint_order) {
     const Joint& J = m.joints[ji];
     const int k0 = J.u_offset;
     if (J.parent < 0) {
-      a0 = a1 = a2 = 0;
+      a0 = a1 = a2 = S(0);
     } else if (J.parent != carried) {
-      const std::array<double, 3>& A = ws.articulated_bias_planar[J.parent];
+      const std::array<S, 3>& A = ws.articulated_bias_planar[J.parent];
       a0 = A[0], a1 = A[1], a2 = A[2];
     }
-    double ud = 0;
+    S ud = S(0);
     if (J.nu == 1) {
-      const std::array<double, 3>& W = ws.articulated_columns_planar[k0];
+      const std::array<S, 3>& W = ws.articulated_columns_planar[k0];
       ud = x[k0] - (W[0] * a0 + W[1] * a1 + W[2] * a2);
       x[k0] = ud;
     }
-    const double rx = ws.joint_offset[ji][0], ry = ws.joint_offset[ji][1];
+    const S rx = ws.joint_offset[ji][0], ry = ws.joint_offset[ji][1];
     a1 -= a0 * ry;
     a2 += a0 * rx;
     if (J.nu == 1) {
-      const PVec<double>& s = ws.partial_planar[k0];
+      const PVec<S>& s = ws.partial_planar[k0];
       a0 += s[0] * ud, a1 += s[1] * ud, a2 += s[2] * ud;
     }
     ws.articulated_bias_planar[J.child] = {a0, a1, a2};
@@ -359,6 +364,9 @@ bool articulated_body_accelerations_planar(const Model& m, Workspace<double>& ws
   }
   return true;
 }
+#define KANESENS_INSTANTIATE(S) template bool articulated_body_accelerations_planar<S>(const Model&, Workspace<S>&);
+KANESENS_FOR_EACH_DYNAMICS_SCALAR(KANESENS_INSTANTIATE)
+#undef KANESENS_INSTANTIATE
 }  // namespace detail
 
 }  // namespace kanesens::dynamics

@@ -21,6 +21,7 @@ template <class S>
 void compute_body_wrenches_planar(const Model& m, Workspace<S>& ws);
 // u̇ of an unconstrained planar tree of one-speed joints by the articulated-body algorithm
 // (dynamics/articulated_body.cpp), after compute_body_wrenches_planar.
-bool articulated_body_accelerations_planar(const Model& m, Workspace<double>& ws);
+template <class S>
+bool articulated_body_accelerations_planar(const Model& m, Workspace<S>& ws);
 
 }  // namespace kanesens::dynamics::detail

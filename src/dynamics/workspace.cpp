@@ -117,14 +117,18 @@ Workspace<S>::Workspace(const Model& m)
   sparse_constraints = tree_factor && mc > 0 &&
                        (2 * constraint_sparsity.envelope_entries < mc * (mc + 1) / 2 ||
                         2 * constraint_sparsity.support_entries < mc * n);
-  if constexpr (std::is_same_v<S, double>)
+  if constexpr (std::is_same_v<S, double>) {
     if (mass_matrix_full && m.nconstraint_rows == 0 && (joints_of_one_speed(m) || m.nu >= kArticulatedBodyMinSpeeds))
       set_articulated_body(m, *this, true);
+  } else if (mass_matrix_full && m.nconstraint_rows == 0 && m.evaluate_planar() && joints_of_one_speed(m)) {
+    set_articulated_body(m, *this, true);
+  }
   mass_matrix.setZero();
   constraint_matrix.setZero();
 }
 
-void set_articulated_body(const Model& m, Workspace<double>& ws, bool on) {
+template <class S>
+void set_articulated_body(const Model& m, Workspace<S>& ws, bool on) {
   ws.articulated_body = on && m.nconstraint_rows == 0 && (!m.evaluate_planar() || joints_of_one_speed(m));
   if (!ws.articulated_body) return;
   if (m.evaluate_planar()) {
@@ -133,10 +137,14 @@ void set_articulated_body(const Model& m, Workspace<double>& ws, bool on) {
     ws.articulated_columns_planar.resize(static_cast<std::size_t>(m.nu));
     return;
   }
-  ws.articulated_inertia.resize(static_cast<std::size_t>(m.nbody()));
-  ws.articulated_bias.resize(static_cast<std::size_t>(m.nbody()));
-  ws.articulated_columns.resize(static_cast<std::size_t>(m.nu));
-  ws.joint_inverse.assign(m.joints.size(), Mat6<double>::Zero());
+  if constexpr (std::is_same_v<S, double>) {
+    ws.articulated_inertia.resize(static_cast<std::size_t>(m.nbody()));
+    ws.articulated_bias.resize(static_cast<std::size_t>(m.nbody()));
+    ws.articulated_columns.resize(static_cast<std::size_t>(m.nu));
+    ws.joint_inverse.assign(m.joints.size(), Mat6<double>::Zero());
+  } else {
+    ws.articulated_body = false;  // the 3-D recursion is on double only
+  }
 }
 
 namespace {
@@ -201,6 +209,7 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
 
 #define KANESENS_INSTANTIATE(S) \
   template struct Workspace<S>;  \
+  template void set_articulated_body<S>(const Model&, Workspace<S>&, bool); \
   template void set_parameters<S>(const Model&, Workspace<S>&, const S*);
 KANESENS_FOR_EACH_DYNAMICS_SCALAR(KANESENS_INSTANTIATE)
 #undef KANESENS_INSTANTIATE

@@ -129,7 +129,7 @@ struct Workspace {
   // evaluate_rhs on double finds u̇ by the articulated-body algorithm (articulated_body_accelerations)
   // instead of M and its factor: set by the constructor for unconstrained chains evaluated in 3-D
   // whose joints have at most one speed each, or of at least kArticulatedBodyMinSpeeds speeds,
-  // where it is the faster. M, its factor and f are then not formed by evaluate_rhs
+  // where it is the faster; on every scalar for unconstrained planar chains of one-speed joints. M, its factor and f are then not formed by evaluate_rhs
   // (evaluate_mass_matrix_and_forcing still forms them); callers that read them after
   // evaluate_rhs turn it off (set_articulated_body).
   bool articulated_body = false;
@@ -177,9 +177,10 @@ struct Workspace {
   std::vector<PlanarInertia<S>> composite_planar;  // nb, subtree at Q_b
   std::vector<PVec<S>> velocity_planar, bias_planar, wrench_planar;  // nb
   // The articulated-body algorithm on the planar path (sized only when articulated_body).
-  std::vector<std::array<double, 6>> articulated_inertia_planar;  // nb: entries 00, 11, 22, 01, 02, 12
-  std::vector<std::array<double, 3>> articulated_bias_planar;     // nb: p^A, then δa
-  std::vector<std::array<double, 3>> articulated_columns_planar;  // nu: U'/D at the parent's point
+  // On every scalar: dual passes of a planar chain take the recursion too (O(n), not M's O(n³)).
+  std::vector<std::array<S, 6>> articulated_inertia_planar;  // nb: entries 00, 11, 22, 01, 02, 12
+  std::vector<std::array<S, 3>> articulated_bias_planar;     // nb: p^A, then δa
+  std::vector<std::array<S, 3>> articulated_columns_planar;  // nu: U'/D at the parent's point
   std::vector<Vec6<S>> prefix;  // ≤ 7: a joint's V_P + Σ_{c<k} s_c u_c (carried frames' velocity)
 };
 
@@ -190,14 +191,19 @@ inline constexpr int kArticulatedBodyMinSpeeds = 28;
 
 // Turns the articulated-body evaluation on (sizing its arrays) or off; it stays off on a model
 // with constraints (their multipliers need M's factor), and on a model evaluated with the planar
-// path unless each of its joints has at most one speed.
-void set_articulated_body(const Model& model, Workspace<double>& ws, bool on);
+// path unless each of its joints has at most one speed. On scalars other than double only the
+// planar recursion exists: it stays off on the 3-D path.
+template <class S>
+void set_articulated_body(const Model& model, Workspace<S>& ws, bool on);
 // Whether evaluate_rhs finds u̇ by the articulated-body recursion: turned on, and sized for the
 // path (planar or 3-D) the model is evaluated with now.
-inline bool uses_articulated_body(const Model& model, const Workspace<double>& ws) {
+template <class S>
+bool uses_articulated_body(const Model& model, const Workspace<S>& ws) {
   const auto nb = static_cast<std::size_t>(model.nbody());
-  return ws.articulated_body && (model.evaluate_planar() ? ws.articulated_inertia_planar.size() == nb
-                                                         : ws.articulated_inertia.size() == nb);
+  if (!ws.articulated_body) return false;
+  if (model.evaluate_planar()) return ws.articulated_inertia_planar.size() == nb;
+  if constexpr (std::is_same_v<S, double>) return ws.articulated_inertia.size() == nb;
+  return false;
 }
 
 // Evaluates parameter-only expressions and the derived per-body/per-joint constants.

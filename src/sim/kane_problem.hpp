@@ -91,10 +91,10 @@ class KaneProblem final : public OdeProblem {
   // jacobian() does not pay here: with one tangent, forming M's value factor per product costs
   // more than the mass matrix's tangent saves.)
   bool has_jacobian_times() const override { return true; }
-  // False where rhs() finds u̇ by the articulated-body recursion (O(n) on double): J v's dual
-  // pass forms and factors M instead (O(n³)), so Newton–Krylov with exact products loses to
-  // the dense solver there (docs/explanation/solvers.md).
-  bool jacobian_times_cheap() const override { return !articulated_rhs_; }
+  // False where rhs() finds u̇ by the 3-D articulated-body recursion (O(n), on double only): J v's
+  // dual pass forms and factors M instead (O(n³)), so Newton–Krylov with exact products loses to
+  // the dense solver there (docs/explanation/solvers.md). The planar recursion runs on duals too.
+  bool jacobian_times_cheap() const override { return jacobian_times_cheap_; }
   void jacobian_times(double t, const double* y, const double* ydot, const double* v, double* Jv) override;
   int num_sensitivities() const override { return static_cast<int>(sens_.size()); }
   void initial_sensitivity(int i, double* s0) const override;
@@ -188,7 +188,7 @@ class KaneProblem final : public OdeProblem {
   std::string embedding_failure(double t, const char* what) const;
 
   bool embedded_ = false;
-  bool articulated_rhs_ = false;  // the values workspace evaluates u̇ by the articulated-body recursion
+  bool jacobian_times_cheap_ = true;
   dynamics::EmbeddingSets sets0_;  // the partition chosen at t0
   // The partition in use and κ when it was chosen: initial_state() restores sets0_ (the
   // integrator starts every run there), after_step() re-chooses.

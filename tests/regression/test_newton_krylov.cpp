@@ -47,7 +47,8 @@ std::string n_four_bar(int n) {
 }
 
 // A planar chain of n rods with joint springs and dampers, hanging from the origin.
-std::string chain(int n, double k = 20, double c = 0.2) {
+// axes_zx: joint axes alternate z, x (a chain moving in 3-D) instead of all z (planar).
+std::string chain(int n, double k = 20, double c = 0.2, bool axes_zx = false) {
   std::string s = "kanesens: 1\nscene:\n  name: chain\n  gravity: [0, -9.81, 0]\n"
                   "  parameters: {m: 1.0, L: 1.0, k: " + std::to_string(k) + ", c: " + std::to_string(c) +
                   "}\n  bodies:\n";
@@ -57,7 +58,8 @@ std::string chain(int n, double k = 20, double c = 0.2) {
   for (int i = 1; i <= n; ++i)
     s += "    - {name: j" + std::to_string(i) + ", type: revolute, parent: " +
          (i == 1 ? std::string("ground") : "link" + std::to_string(i - 1)) + ", child: link" + std::to_string(i) +
-         ", axis: [0, 0, 1], parent_point: [0, " + (i == 1 ? "0" : "\"-L/2\"") + ", 0], child_point: [0, \"L/2\", 0]," +
+         ", axis: " + (axes_zx && i % 2 == 0 ? "[1, 0, 0]" : "[0, 0, 1]") + ", parent_point: [0, " +
+         (i == 1 ? "0" : "\"-L/2\"") + ", 0], child_point: [0, \"L/2\", 0]," +
          " q0: " + (i == 1 ? "0.5" : "0") + ", u0: 0, spring: {k: k, rest: 0}, damper: {c: c}}\n";
   return s;
 }
@@ -195,18 +197,20 @@ TEST(NewtonKrylov, JacobiansOfLoopsAndChainsAreDense) {
 }
 
 // linear_solver: auto takes krylov for a large mechanism whose Jacobian's spectral radius is
-// small (the N four-bar, N = 30: 122 states), dense for a small one. On a 64-link chain, whose
-// right-hand side is the articulated-body recursion, an exact J v costs far more than the
-// right-hand side: dense there, krylov with difference-quotient products (jacobian: dq) — but
-// dense again when the chain is stiff (stiff overdamped joints: radius ~5e4/s, where GMRES
-// without a preconditioner needs many iterations).
+// small (the N four-bar, N = 30: 122 states; a planar 64-link chain), dense for a small one and
+// for a large stiff one (a 64-link chain with stiff overdamped joints: radius ~5e4/s, where GMRES
+// without a preconditioner needs many iterations, even with jacobian: dq). On a 64-link chain
+// moving in 3-D, whose right-hand side is the 3-D articulated-body recursion, an exact J v costs
+// far more than the right-hand side: dense there, krylov with difference-quotient products.
 TEST(NewtonKrylov, AutoChoosesBySizeAndStiffness) {
   const std::vector<double> t = times(0.02, 3);
   EXPECT_EQ(simulate(model_from_text(n_four_bar(30)), ks::LinearSolver::automatic, t).result.linear_solver,
             ks::LinearSolver::krylov);
   EXPECT_EQ(simulate(model_from_text(chain(64)), ks::LinearSolver::automatic, t).result.linear_solver,
+            ks::LinearSolver::krylov);
+  EXPECT_EQ(simulate(model_from_text(chain(64, 20, 0.2, true)), ks::LinearSolver::automatic, t).result.linear_solver,
             ks::LinearSolver::dense);
-  EXPECT_EQ(simulate(model_from_text(chain(64)), ks::LinearSolver::automatic, t, {}, ks::JacobianKind::dq)
+  EXPECT_EQ(simulate(model_from_text(chain(64, 20, 0.2, true)), ks::LinearSolver::automatic, t, {}, ks::JacobianKind::dq)
                 .result.linear_solver,
             ks::LinearSolver::krylov);
   EXPECT_EQ(simulate(model_from_text(n_four_bar(5)), ks::LinearSolver::automatic, t).result.linear_solver,

@@ -9,8 +9,10 @@
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <utility>
 
 #include "dynamics/equations.hpp"
+#include "math/multi_dual.hpp"
 #include "kane_test_support.hpp"
 #include "test_scenes.hpp"
 
@@ -101,6 +103,61 @@ TEST(ArticulatedBody, AcceleratesAsTheMassMatrixSolve) {
   }
 }
 
+// On dual and multi-tangent scalars (planar chains of one-speed joints): the recursion's
+// tangents equal those of M⁻¹ f through the same scalar, at random states and tangents, with
+// parameter tangents (mass, length, spring) among them.
+void set_tangent(Dual& x, int, double d) { x.d = d; }
+void set_tangent(math::MultiDual<8>& x, int i, double d) { x.set_d(i, d); }
+double tangent_at(const Dual& x, int) { return x.d; }
+double tangent_at(const math::MultiDual<8>& x, int i) { return x.d(i); }
+
+template <class S>
+void check_tangents_against_mass_matrix(const Model& m, int directions) {
+  Workspace<S> crba(m), aba(m);
+  dynamics::set_articulated_body(m, crba, false);
+  ASSERT_TRUE(aba.articulated_body);
+  ASSERT_TRUE(dynamics::uses_articulated_body(m, aba));
+  ASSERT_FALSE(dynamics::uses_articulated_body(m, crba));
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(-1, 1);
+  const std::vector<double> p0 = m.nominal_parameters();
+  std::vector<S> p(p0.begin(), p0.end());
+  for (int i = 0; i < directions && i < m.nparam(); ++i) set_tangent(p[static_cast<std::size_t>(i)], i, 1.0);
+  set_parameters(m, crba, p.data());
+  set_parameters(m, aba, p.data());
+  for (int trial = 0; trial < 4; ++trial) {
+    std::vector<S> y(m.nstate()), f1(m.nstate()), f2(m.nstate());
+    for (S& v : y) {
+      v = S(uni(rng));
+      for (int i = 0; i < directions; ++i) set_tangent(v, i, uni(rng));
+    }
+    ASSERT_TRUE(evaluate_rhs(m, crba, S(0.2), y.data(), f1.data()));
+    ASSERT_TRUE(evaluate_rhs(m, aba, S(0.2), y.data(), f2.data()));
+    double scale = 1;
+    for (int r = 0; r < m.nstate(); ++r) {
+      scale = std::max(scale, std::abs(math::value_of(f1[r])));
+      for (int i = 0; i < directions; ++i) scale = std::max(scale, std::abs(tangent_at(f1[r], i)));
+    }
+    for (int r = 0; r < m.nstate(); ++r) {
+      EXPECT_NEAR(math::value_of(f2[r]), math::value_of(f1[r]), 1e-11 * scale) << m.state_names[r];
+      for (int i = 0; i < directions; ++i)
+        EXPECT_NEAR(tangent_at(f2[r], i), tangent_at(f1[r], i), 1e-11 * scale)
+            << m.state_names[r] << " direction " << i << " trial " << trial;
+    }
+  }
+}
+
+TEST(ArticulatedBody, TangentsOnThePlanarPathAsTheMassMatrixSolve) {
+  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+           {"chain_planar_8", test_scenes::chain_scene(8)}, {"cart_double_pole_planar", kCartPoles}}) {
+    SCOPED_TRACE(name);
+    const Model m = model_from_text(text);
+    ASSERT_TRUE(m.evaluate_planar());
+    check_tangents_against_mass_matrix<Dual>(m, 1);
+    check_tangents_against_mass_matrix<math::MultiDual<8>>(m, 8);
+  }
+}
+
 TEST(ArticulatedBody, PhysicalPendulumClosedForm) {
   // A uniform rod hinged at its end: θ̈ = −(3g / 2L) sin θ, by the recursion on the 3-D path.
   const double L = 0.9, g = 9.81;  // and m = 1.3, which θ̈ does not depend on
@@ -133,7 +190,9 @@ TEST(ArticulatedBody, ChosenForUnconstrainedSpatialChainsOnly) {
   ASSERT_TRUE(planar.evaluate_planar());
   EXPECT_TRUE(Workspace<double>(planar).articulated_body) << "the planar path's own recursion";
   EXPECT_FALSE(Workspace<Dual>(model_from_text(test_scenes::chain_scene(8, 0.1))).articulated_body)
-      << "derivatives go through M";
+      << "3-D derivatives go through M";
+  EXPECT_TRUE(Workspace<Dual>(planar).articulated_body) << "the planar recursion runs on duals";
+  EXPECT_TRUE(Workspace<math::MultiDual<8>>(planar).articulated_body);
   const Model closed = model_from_text(test_scenes::n_four_bar(6));
   Workspace<double> ws(closed);
   EXPECT_FALSE(ws.articulated_body);
