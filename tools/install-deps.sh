@@ -6,7 +6,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config git
+  build-essential cmake ninja-build pkg-config git
   libeigen3-dev libopenmpi-dev openmpi-bin libhdf5-openmpi-dev hdf5-tools
   libsundials-dev libyaml-cpp-dev libcli11-dev libfmt-dev libboost-dev
   libgtest-dev libbenchmark-dev
