@@ -1,37 +1,26 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer harnesses (tests/fuzz) with clang, ASan and UBSan into build-fuzz/, and
-# runs each for a bounded time over a copy of its seed corpus:
+# Builds the libFuzzer harnesses (tests/fuzz) in the instrumented tree that tools/sanitize.sh
+# uses (tools/asan-tree.sh: clang, ASan, UBSan, libFuzzer's coverage; build-asan/), and runs
+# each for a bounded time over a copy of its seed corpus:
 #   fuzz_scene   scene text -> what `check` does (model build, constraints, forces, initial state);
 #                seeds tests/fuzz/corpus/scene/ and the shipped configs/, dictionary yaml.dict,
 #                number/name mutations of tests/fuzz/yaml_mutator.hpp
 #   fuzz_study   study text -> study::setup_study (everything simulate and run check); the same
 #   fuzz_expr    expression text -> compile + evaluate
 #   fuzz_resume  edits of a real run file -> RunFile::open_for_resume + rows written
-# Installs clang (Debian's clang-14 ships libFuzzer) if missing. Exits non-zero on any finding;
-# the input is left in build-fuzz/artifacts/<target>/ (it then becomes a row of
-# tests/unit/test_bad_input.cpp or tests/unit/test_run_file.cpp with the fix). Prints, per
-# target, the executions and the coverage reached (libFuzzer's cov: edges, ft: features).
+# Exits non-zero on any finding; the input is left in build-asan/fuzz/artifacts/<target>/ (it
+# then becomes a row of tests/unit/test_bad_input.cpp or tests/unit/test_run_file.cpp with the
+# fix). Prints, per target, the executions and the coverage reached (libFuzzer's cov: edges,
+# ft: features).
 #   FUZZ_SECONDS=20 (per target)   FUZZ_TARGETS="fuzz_scene fuzz_study fuzz_expr fuzz_resume"
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-build=${KANESENS_FUZZ_BUILD_DIR:-$root/build-fuzz}
+build=${KANESENS_ASAN_BUILD_DIR:-$root/build-asan}
 seconds=${FUZZ_SECONDS:-20}
 targets=(${FUZZ_TARGETS:-fuzz_scene fuzz_study fuzz_expr fuzz_resume})
 
-if ! command -v clang++ >/dev/null || ! echo 'extern "C" int LLVMFuzzerTestOneInput(const char*, unsigned long) { return 0; }' \
-     | clang++ -x c++ -fsanitize=fuzzer - -o /dev/null 2>/dev/null; then
-  sudo_cmd=(); [[ $(id -u) -ne 0 ]] && sudo_cmd=(sudo)
-  echo "fuzz: installing clang (libFuzzer)"
-  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends clang >/dev/null \
-    || { "${sudo_cmd[@]}" apt-get update -qq && DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends clang; }
-fi
-
 start=$(date +%s)
-if [[ ! -f $build/CMakeCache.txt ]]; then
-  cmake -S "$root" -B "$build" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-    -DKANESENS_FUZZ=ON -DKANESENS_BUILD_TESTS=OFF >/dev/null
-fi
+bash "$root/tools/asan-tree.sh" "$build"
 cmake --build "$build" -j "${KANESENS_JOBS:-$(nproc)}" --target "${targets[@]}"
 echo "fuzz: build $(( $(date +%s) - start )) s"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1  # fuzz_resume starts MPI (a singleton)
@@ -39,7 +28,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1  # fuzz_resume 
 status=0
 for t in "${targets[@]}"; do
   name=${t#fuzz_}
-  work="$build/corpus-work/$name" artifacts="$build/artifacts/$name"
+  work="$build/fuzz/corpus-work/$name" artifacts="$build/fuzz/artifacts/$name"
   mkdir -p "$work" "$artifacts"
   options=(-max_len=4096)
   seeds=("$root/tests/fuzz/corpus/$name")
@@ -52,16 +41,16 @@ for t in "${targets[@]}"; do
   esac
   # -rss_limit/-timeout: a slow or memory-hungry input is a finding too (kanesens runs unattended).
   if "$build/tests/fuzz/$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 "${options[@]}" \
-       -print_final_stats=1 -artifact_prefix="$artifacts/" "$work" "${seeds[@]}" >"$build/$t.log" 2>&1; then
-    runs=$(grep -m1 '^stat::number_of_executed_units' "$build/$t.log" | awk '{print $2}')
+       -print_final_stats=1 -artifact_prefix="$artifacts/" "$work" "${seeds[@]}" >"$build/fuzz/$t.log" 2>&1; then
+    runs=$(grep -m1 '^stat::number_of_executed_units' "$build/fuzz/$t.log" | awk '{print $2}')
     unset ASAN_OPTIONS
-    cov=$(grep -E '^#[0-9]+' "$build/$t.log" | grep -o 'cov: [0-9]* ft: [0-9]*' | tail -1)
+    cov=$(grep -E '^#[0-9]+' "$build/fuzz/$t.log" | grep -o 'cov: [0-9]* ft: [0-9]*' | tail -1)
     echo "fuzz: $t ok: ${runs:-?} executions in ${seconds} s, ${cov:-cov: ?}, corpus $(ls "$work" | wc -l) inputs"
   else
     unset ASAN_OPTIONS
     status=1
     echo "fuzz: $t FOUND A PROBLEM (input in $artifacts/):"
-    grep -E "ERROR|SUMMARY|not an InputError|unexpected exception|Test unit written" "$build/$t.log" | head -10 || true
+    grep -E "ERROR|SUMMARY|not an InputError|unexpected exception|Test unit written" "$build/fuzz/$t.log" | head -10 || true
   fi
 done
 echo "fuzz: total $(( $(date +%s) - start )) s"

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Builds kanesens with AddressSanitizer + UndefinedBehaviorSanitizer (KANESENS_SANITIZE=ON,
-# warnings as errors) into build-asan/ and runs the unit tests there (ctest -L unit), with
-# LeakSanitizer on: the CVODES wrappers (test_integrator) and the HDF5 wrappers (test_run_file,
-# test_hdf5_text) must not leak. tests/lsan.supp suppresses leaks inside third-party internals
-# only (Open MPI / PMIx / hwloc start-up); kanesens's own handles are never suppressed.
+# Builds kanesens with AddressSanitizer + UndefinedBehaviorSanitizer (clang, warnings as errors)
+# into build-asan/ (tools/asan-tree.sh; the same tree builds tools/fuzz.sh's harnesses) and runs
+# the unit tests there (ctest -L unit), with LeakSanitizer on: the CVODES wrappers
+# (test_integrator) and the HDF5 wrappers (test_run_file, test_hdf5_text) must not leak.
+# tests/lsan.supp suppresses leaks inside third-party internals only (Open MPI / PMIx / hwloc
+# start-up); kanesens's own handles are never suppressed.
 # Only the unit-test targets are built (see docs/explanation/reliability.md for the CI time budget).
 # Extra arguments go to ctest, e.g. tools/sanitize.sh -R BadInput
 set -euo pipefail
@@ -11,11 +12,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${KANESENS_ASAN_BUILD_DIR:-$root/build-asan}
 start=$(date +%s)
 bash "$root/tools/install-deps.sh" >/dev/null
-if [[ ! -f $build/CMakeCache.txt ]]; then
-  # -O1 -g1: what the sanitizers recommend (full stacks), at a fraction of the compile time of -O2 -g
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" -DKANESENS_SANITIZE=ON -DKANESENS_WERROR=ON >/dev/null
-fi
+bash "$root/tools/asan-tree.sh" "$build"
 # The unit-test executables (one per tests/unit/test_*.cpp) and what they link.
 targets=()
 for f in "$root"/tests/unit/test_*.cpp; do targets+=("$(basename "$f" .cpp)"); done

@@ -60,7 +60,8 @@ Files& files() {
     {
       RunFile file = RunFile::create(MPI_COMM_SELF, x.path, layout(), true);
       const std::vector<double> p{1}, x0{0, 0}, states(6, 0.5), lambda(3, 0.25), sens(6, 0.125), out(3, 2.0), stats{10};
-      file.write_sample({1, 1, "", p, x0, states, lambda, sens, out, stats});
+      file.write_sample({.index = 1, .status = 1, .message = "", .parameters = p, .initial_state = x0, .states = states,
+                         .multipliers = lambda, .sensitivities = sens, .outputs = out, .stats = stats});
       file.close();
     }
     std::ifstream in(x.path, std::ios::binary);
@@ -233,7 +234,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::vector<int> status = file.read_status();
     const std::vector<double> p{1}, x0{0, 0}, states(6, 0.5), lambda(3, 0.25), sens(6, 0.125), out(3, 2.0), stats{10};
     for (std::size_t i = 0; i < status.size(); ++i)
-      if (status[i] == 0) file.write_sample({static_cast<std::int64_t>(i), 1, "resumed", p, x0, states, lambda, sens, out, stats});
+      if (status[i] == 0) file.write_sample({.index = static_cast<std::int64_t>(i), .status = 1, .message = "resumed", .parameters = p,
+                           .initial_state = x0, .states = states, .multipliers = lambda, .sensitivities = sens,
+                           .outputs = out, .stats = stats});
     file.close();
   } catch (const std::runtime_error&) {  // refused (or an HDF5 call failed): a clear error, not a crash
   } catch (const std::exception& e) {
