@@ -9,6 +9,9 @@
 // wrench at u̇ = 0 (compute_body_wrenches). Three sweeps of O(1) work per joint: for a chain this
 // is cheaper than forming M (O(nu²)) and factoring it (O(nu³)).
 //
+// On every scalar for joints of one speed (several speeds, whose D is factored by Eigen: on
+// double only): dual and multi-tangent passes of a chain then cost O(n) like the values.
+//
 // Inertias are kept as their 21 distinct entries and every product is written in scalars: the
 // sweeps are a chain of dependent steps, and 6×6 temporaries written by rows and read by columns
 // (or in pieces and read in pairs) stall store-to-load forwarding on each of them.
@@ -24,20 +27,22 @@ namespace kanesens::dynamics {
 namespace {
 using M6 = Eigen::Matrix<double, 6, 6>;
 using V6 = Eigen::Matrix<double, 6, 1>;
-using Force6 = std::array<double, 6>;
+template <class S>
+using Force6 = std::array<S, 6>;
 
 // Position of (i, j) in the 6-entry storage of a symmetric 3×3 block.
 constexpr int kSym[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
 
-void from_spatial_inertia(const SpatialInertia<double>& X, ArticulatedInertia& I) {
+template <class S>
+void from_spatial_inertia(const SpatialInertia<S>& X, ArticulatedInertiaT<S>& I) {
   // [I h×; −h× m1]: B = h× (B a = h × a).
   for (int i = 0; i < 3; ++i)
     for (int j = i; j < 3; ++j) I.A[kSym[i][j]] = X.I(i, j);
-  const double h0 = X.h[0], h1 = X.h[1], h2 = X.h[2];
-  const double B[9] = {0, -h2, h1, h2, 0, -h0, -h1, h0, 0};
+  const S h0 = X.h[0], h1 = X.h[1], h2 = X.h[2];
+  const S B[9] = {S(0), -h2, h1, h2, S(0), -h0, -h1, h0, S(0)};
   for (int k = 0; k < 9; ++k) I.B[k] = B[k];
   I.C[0] = I.C[1] = I.C[2] = X.m;
-  I.C[3] = I.C[4] = I.C[5] = 0;
+  I.C[3] = I.C[4] = I.C[5] = S(0);
 }
 
 void to_matrix(const ArticulatedInertia& I, M6& M) {
@@ -62,16 +67,17 @@ void from_matrix(const M6& M, ArticulatedInertia& I) {
 // Xᵀ I X, X the shift of motion vectors from Q_P to Q_C = Q_P + r: an articulated inertia at the
 // child's point seen from the parent's. With R = r×: A' = A − B R − (B R)ᵀ − R C R, B' = B + R C,
 // C' = C (row i of B R is b_i × r, column j of R C is r × c_j).
-ArticulatedInertia shifted_to_parent(const ArticulatedInertia& I, const double r[3]) {
-  const double r0 = r[0], r1 = r[1], r2 = r[2];
-  ArticulatedInertia out;
-  double BR[3][3], RC[3][3];
+template <class S>
+ArticulatedInertiaT<S> shifted_to_parent(const ArticulatedInertiaT<S>& I, const S r[3]) {
+  const S r0 = r[0], r1 = r[1], r2 = r[2];
+  ArticulatedInertiaT<S> out;
+  S BR[3][3], RC[3][3];
   for (int i = 0; i < 3; ++i) {
-    const double b0 = I.B[3 * i], b1 = I.B[3 * i + 1], b2 = I.B[3 * i + 2];
+    const S b0 = I.B[3 * i], b1 = I.B[3 * i + 1], b2 = I.B[3 * i + 2];
     BR[i][0] = b1 * r2 - b2 * r1;
     BR[i][1] = b2 * r0 - b0 * r2;
     BR[i][2] = b0 * r1 - b1 * r0;
-    const double c0 = I.C[kSym[0][i]], c1 = I.C[kSym[1][i]], c2 = I.C[kSym[2][i]];
+    const S c0 = I.C[kSym[0][i]], c1 = I.C[kSym[1][i]], c2 = I.C[kSym[2][i]];
     RC[0][i] = r1 * c2 - r2 * c1;
     RC[1][i] = r2 * c0 - r0 * c2;
     RC[2][i] = r0 * c1 - r1 * c0;
@@ -79,7 +85,7 @@ ArticulatedInertia shifted_to_parent(const ArticulatedInertia& I, const double r
   for (int i = 0; i < 3; ++i) {
     // Row i of R C R (symmetric: its upper triangle).
     for (int j = i; j < 3; ++j) {
-      const double rcr = j == 0   ? RC[i][1] * r2 - RC[i][2] * r1
+      const S rcr = j == 0   ? RC[i][1] * r2 - RC[i][2] * r1
                          : j == 1 ? RC[i][2] * r0 - RC[i][0] * r2
                                   : RC[i][0] * r1 - RC[i][1] * r0;
       out.A[kSym[i][j]] = I.A[kSym[i][j]] - BR[i][j] - BR[j][i] - rcr;
@@ -90,14 +96,16 @@ ArticulatedInertia shifted_to_parent(const ArticulatedInertia& I, const double r
   return out;
 }
 
-void add_to(const ArticulatedInertia& X, ArticulatedInertia& parent) {
+template <class S>
+void add_to(const ArticulatedInertiaT<S>& X, ArticulatedInertiaT<S>& parent) {
   for (int k = 0; k < 6; ++k) parent.A[k] += X.A[k];
   for (int k = 0; k < 9; ++k) parent.B[k] += X.B[k];
   for (int k = 0; k < 6; ++k) parent.C[k] += X.C[k];
 }
 
 // (n, f) at Q_C as a force at Q_P = Q_C − r: (n + r × f, f).
-Force6 force_to_parent(const double f[6], const double r[3]) {
+template <class S>
+Force6<S> force_to_parent(const S f[6], const S r[3]) {
   return {f[0] + (r[1] * f[5] - r[2] * f[4]), f[1] + (r[2] * f[3] - r[0] * f[5]),
           f[2] + (r[0] * f[4] - r[1] * f[3]), f[3], f[4], f[5]};
 }
@@ -108,12 +116,13 @@ Force6 force_to_parent(const double f[6], const double r[3]) {
 // (one rank-one update, at the parent's point). Stores W = U'/D and u/D, from which the forward
 // sweep gets u̇ = u/D − Wᵀ δa_P (δa_P at the parent's point, since U'ᵀ δa_P = Uᵀ X δa_P).
 // Returns false unless D > 0.
-bool one_speed_to_parent(const ArticulatedInertia& I, const double p[6], const double a[3], bool rotation,
-                         double tau, const double r[3], bool has_parent, ArticulatedInertia* parent,
-                         double* parent_bias, double W[6], double& u_over_d) {
-  const double a0 = a[0], a1 = a[1], a2 = a[2];
-  double U[6];
-  double d, u;
+template <class S>
+bool one_speed_to_parent(const ArticulatedInertiaT<S>& I, const S p[6], const S a[3], bool rotation, const S& tau,
+                         const S r[3], bool has_parent, ArticulatedInertiaT<S>* parent, S* parent_bias, S W[6],
+                         S& u_over_d) {
+  const S a0 = a[0], a1 = a[1], a2 = a[2];
+  S U[6];
+  S d, u;
   if (rotation) {  // U = (A a, Bᵀ a)
     for (int i = 0; i < 3; ++i) U[i] = I.A[kSym[i][0]] * a0 + I.A[kSym[i][1]] * a1 + I.A[kSym[i][2]] * a2;
     for (int i = 0; i < 3; ++i) U[3 + i] = I.B[i] * a0 + I.B[3 + i] * a1 + I.B[6 + i] * a2;
@@ -125,21 +134,21 @@ bool one_speed_to_parent(const ArticulatedInertia& I, const double p[6], const d
     d = a0 * U[3] + a1 * U[4] + a2 * U[5];
     u = tau - (a0 * p[3] + a1 * p[4] + a2 * p[5]);
   }
-  if (!(d > 0)) return false;
-  const double dinv = 1.0 / d;
+  if (!(math::value_of(d) > 0)) return false;
+  const S dinv = S(1.0) / d;
   u_over_d = u * dinv;
-  const Force6 Up = has_parent ? force_to_parent(U, r) : Force6{U[0], U[1], U[2], U[3], U[4], U[5]};
+  const Force6<S> Up = has_parent ? force_to_parent<S>(U, r) : Force6<S>{U[0], U[1], U[2], U[3], U[4], U[5]};
   for (int i = 0; i < 6; ++i) W[i] = Up[i] * dinv;
   if (!has_parent) return true;
-  const ArticulatedInertia S = shifted_to_parent(I, r);
+  const ArticulatedInertiaT<S> X = shifted_to_parent(I, r);
   for (int i = 0; i < 3; ++i) {
     for (int j = i; j < 3; ++j) {
-      parent->A[kSym[i][j]] += S.A[kSym[i][j]] - Up[i] * W[j];
-      parent->C[kSym[i][j]] += S.C[kSym[i][j]] - Up[3 + i] * W[3 + j];
+      parent->A[kSym[i][j]] += X.A[kSym[i][j]] - Up[i] * W[j];
+      parent->C[kSym[i][j]] += X.C[kSym[i][j]] - Up[3 + i] * W[3 + j];
     }
-    for (int j = 0; j < 3; ++j) parent->B[3 * i + j] += S.B[3 * i + j] - Up[i] * W[3 + j];
+    for (int j = 0; j < 3; ++j) parent->B[3 * i + j] += X.B[3 * i + j] - Up[i] * W[3 + j];
   }
-  const Force6 pp = force_to_parent(p, r);
+  const Force6<S> pp = force_to_parent<S>(p, r);
   for (int i = 0; i < 6; ++i) parent_bias[i] += pp[i] + Up[i] * u_over_d;
   return true;
 }
@@ -178,22 +187,23 @@ bool project_speeds(ArticulatedInertia& I, double p[6], const Vec6<double>* s, c
 }
 }  // namespace
 
-bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
+template <class S>
+bool articulated_body_accelerations(const Model& m, Workspace<S>& ws) {
   for (int b = 0; b < m.nbody(); ++b) {
     from_spatial_inertia(ws.spatial_inertia[b], ws.articulated_inertia[b]);
     for (int i = 0; i < 6; ++i) ws.articulated_bias[b][i] = -ws.wrench[b][i];
   }
-  double* x = ws.udot.data();  // u/D (one speed) or u = τ − Sᵀ p^A (several) on the way in, u̇ out
+  S* x = ws.udot.data();  // u/D (one speed) or u = τ − Sᵀ p^A (several) on the way in, u̇ out
   // Leaves to roots: I^A, p^A of each body's subtree.
   for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
     const Joint& J = m.joints[*it];
     const int n = J.nu, k0 = J.u_offset;
-    ArticulatedInertia& IA = ws.articulated_inertia[J.child];
-    double* pA = ws.articulated_bias[J.child].data();
-    const double* r = ws.joint_offset[*it].data();
+    ArticulatedInertiaT<S>& IA = ws.articulated_inertia[J.child];
+    S* pA = ws.articulated_bias[J.child].data();
+    const S* r = ws.joint_offset[*it].data();
     const bool has_parent = J.parent >= 0;
     if (n == 1) {
-      const Vec6<double>& s = ws.partial[k0];
+      const Vec6<S>& s = ws.partial[k0];
       const bool rotation = m.speed_rotation[k0] != 0;
       if (!one_speed_to_parent(IA, pA, rotation ? s.data() : s.data() + 3, rotation, ws.forcing[k0], r, has_parent,
                                has_parent ? &ws.articulated_inertia[J.parent] : nullptr,
@@ -202,7 +212,9 @@ bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
         return false;
       continue;
     }
-    if (n > 1) {
+    if constexpr (!std::is_same_v<S, double>) {
+      if (n > 1) return false;  // several speeds: on double only (set_articulated_body)
+    } else if (n > 1) {
       V6 U[6];
       if (!project_speeds(IA, pA, ws.partial.data() + k0, m.speed_rotation.data() + k0, n, ws.forcing.data() + k0,
                           has_parent, U, ws.joint_inverse[*it], x + k0))
@@ -212,7 +224,7 @@ bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
     }
     if (has_parent) {
       add_to(shifted_to_parent(IA, r), ws.articulated_inertia[J.parent]);
-      const Force6 pp = force_to_parent(pA, r);
+      const Force6<S> pp = force_to_parent<S>(pA, r);
       for (int i = 0; i < 6; ++i) ws.articulated_bias[J.parent][i] += pp[i];
     }
   }
@@ -220,37 +232,38 @@ bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
   // D⁻¹ (u − Uᵀ X δa_P) (several). A body's p^A is not needed once its joint is done, so its slot
   // holds δa. Along a chain the parent's δa is the one just formed: it is carried in scalars
   // (reading back what was just stored, in pairs, would stall store-to-load forwarding).
-  double a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0;
+  S a0 = S(0), a1 = S(0), a2 = S(0), a3 = S(0), a4 = S(0), a5 = S(0);
   int carried = -1;  // the body whose δa a0…a5 hold
   for (int ji : m.joint_order) {
     const Joint& J = m.joints[ji];
     const int n = J.nu, k0 = J.u_offset;
     if (J.parent < 0) {
-      a0 = a1 = a2 = a3 = a4 = a5 = 0;
+      a0 = a1 = a2 = a3 = a4 = a5 = S(0);
     } else if (J.parent != carried) {
-      const std::array<double, 6>& P = ws.articulated_bias[J.parent];
+      const std::array<S, 6>& P = ws.articulated_bias[J.parent];
       a0 = P[0], a1 = P[1], a2 = P[2], a3 = P[3], a4 = P[4], a5 = P[5];
     }
     // Here a = δa_P; u̇ of a one-speed joint needs it at the parent's point.
-    double ud = 0;
+    S ud = S(0);
     if (n == 1) {
-      const std::array<double, 6>& W = ws.articulated_columns[k0];
+      const std::array<S, 6>& W = ws.articulated_columns[k0];
       ud = x[k0] - (W[0] * a0 + W[1] * a1 + W[2] * a2 + W[3] * a3 + W[4] * a4 + W[5] * a5);
       x[k0] = ud;
     }
     if (J.parent >= 0) {  // δa_P at Q_C
-      const double* r = ws.joint_offset[ji].data();
-      const double b3 = a3 + (a1 * r[2] - a2 * r[1]), b4 = a4 + (a2 * r[0] - a0 * r[2]), b5 = a5 + (a0 * r[1] - a1 * r[0]);
+      const S* r = ws.joint_offset[ji].data();
+      const S b3 = a3 + (a1 * r[2] - a2 * r[1]), b4 = a4 + (a2 * r[0] - a0 * r[2]), b5 = a5 + (a0 * r[1] - a1 * r[0]);
       a3 = b3, a4 = b4, a5 = b5;
     }
     if (n == 1) {
-      const double* s = ws.partial[k0].data();
+      const S* s = ws.partial[k0].data();
       if (m.speed_rotation[k0]) {
         a0 += s[0] * ud, a1 += s[1] * ud, a2 += s[2] * ud;
       } else {
         a3 += s[3] * ud, a4 += s[4] * ud, a5 += s[5] * ud;
       }
     } else if (n > 1) {
+      if constexpr (std::is_same_v<S, double>) {  // several speeds: on double only (set_articulated_body)
       const double a[6] = {a0, a1, a2, a3, a4, a5};
       double rr[6];
       for (int c = 0; c < n; ++c) {
@@ -269,13 +282,17 @@ bool articulated_body_accelerations(const Model& m, Workspace<double>& ws) {
           a3 += s[3] * v, a4 += s[4] * v, a5 += s[5] * v;
         }
       }
+      }
     }
-    std::array<double, 6>& C = ws.articulated_bias[J.child];
+    std::array<S, 6>& C = ws.articulated_bias[J.child];
     C[0] = a0, C[1] = a1, C[2] = a2, C[3] = a3, C[4] = a4, C[5] = a5;
     carried = J.child;
   }
   return true;
 }
+#define KANESENS_INSTANTIATE(S) template bool articulated_body_accelerations<S>(const Model&, Workspace<S>&);
+KANESENS_FOR_EACH_DYNAMICS_SCALAR(KANESENS_INSTANTIATE)
+#undef KANESENS_INSTANTIATE
 
 // The same on the planar path (math/planar.hpp): motion and force vectors (ω_z, x, y), an
 // articulated inertia a symmetric 3×3 (entries 00, 11, 22, 01, 02, 12), every joint of one speed.

@@ -274,9 +274,7 @@ bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* y
   const S* q = y;
   const S* u = y + m.nq;
   RhsFailure why = RhsFailure::none;
-  bool articulated = false;
-  articulated = uses_articulated_body(m, ws);
-  if (articulated) {
+  if (uses_articulated_body(m, ws)) {
     // u̇ by the articulated-body algorithm: no M, no f (ws.forcing keeps the joints' own forces).
     evaluate_state_expressions(m, ws, t, q, u);
     compute_position(m, ws, q);
@@ -286,9 +284,8 @@ bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* y
     ws.forcing.setZero();
     detail::add_joint_spring_dampers(m, ws, q, u);
     compute_kinematic_derivatives(m, ws, q, u);
-    bool ok = false;  // uses_articulated_body: on scalars other than double, the planar path only
-    if (m.evaluate_planar()) ok = detail::articulated_body_accelerations_planar(m, ws);
-    else if constexpr (std::is_same_v<S, double>) ok = articulated_body_accelerations(m, ws);
+    const bool ok = m.evaluate_planar() ? detail::articulated_body_accelerations_planar(m, ws)
+                                        : articulated_body_accelerations(m, ws);
     if (!ok) why = RhsFailure::mass_matrix_not_positive_definite;
   } else {
     evaluate_mass_matrix_and_forcing(m, ws, t, q, u);

@@ -8,7 +8,7 @@
 //   compute_mass_matrix       M (nu×nu)
 //   compute_forcing           f (nu): generalized active forces + inertia forces at u̇ = 0
 //   solve_accelerations       u̇ = M⁻¹ f (tree LᵀDL or dense Cholesky)
-//   (or, for long unconstrained chains on double, articulated_body_accelerations: u̇ in O(nu))
+//   (or, for unconstrained chains, articulated_body_accelerations: u̇ in O(nu))
 //   compute_kinematic_derivatives  q̇ = N(q) u
 //
 // For speed k of joint j with child body C and joint point Q, the partial angular velocity is
@@ -64,7 +64,8 @@ void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q,
 // position and velocity stages, compute_body_wrenches, and the joints' own generalized forces
 // (spring-dampers) in ws.forcing. False if a joint's articulated inertia is not positive
 // definite (M is not). evaluate_rhs uses it when ws.articulated_body.
-bool articulated_body_accelerations(const Model& m, Workspace<double>& ws);
+template <class S>
+bool articulated_body_accelerations(const Model& m, Workspace<S>& ws);
 
 // Constraint rows at (q, u): A, a0-velocity residual, position residual and bias −(Ȧu + ȧ0),
 // minus the Baumgarte terms of `options` (dynamics/constraints.cpp). Needs position, velocity

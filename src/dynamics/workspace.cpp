@@ -120,7 +120,7 @@ Workspace<S>::Workspace(const Model& m)
   if constexpr (std::is_same_v<S, double>) {
     if (mass_matrix_full && m.nconstraint_rows == 0 && (joints_of_one_speed(m) || m.nu >= kArticulatedBodyMinSpeeds))
       set_articulated_body(m, *this, true);
-  } else if (mass_matrix_full && m.nconstraint_rows == 0 && m.evaluate_planar() && joints_of_one_speed(m)) {
+  } else if (mass_matrix_full && m.nconstraint_rows == 0 && joints_of_one_speed(m)) {
     set_articulated_body(m, *this, true);
   }
   mass_matrix.setZero();
@@ -129,7 +129,8 @@ Workspace<S>::Workspace(const Model& m)
 
 template <class S>
 void set_articulated_body(const Model& m, Workspace<S>& ws, bool on) {
-  ws.articulated_body = on && m.nconstraint_rows == 0 && (!m.evaluate_planar() || joints_of_one_speed(m));
+  ws.articulated_body = on && m.nconstraint_rows == 0 &&
+                        (joints_of_one_speed(m) || (std::is_same_v<S, double> && !m.evaluate_planar()));
   if (!ws.articulated_body) return;
   if (m.evaluate_planar()) {
     ws.articulated_inertia_planar.resize(static_cast<std::size_t>(m.nbody()));
@@ -137,14 +138,10 @@ void set_articulated_body(const Model& m, Workspace<S>& ws, bool on) {
     ws.articulated_columns_planar.resize(static_cast<std::size_t>(m.nu));
     return;
   }
-  if constexpr (std::is_same_v<S, double>) {
-    ws.articulated_inertia.resize(static_cast<std::size_t>(m.nbody()));
-    ws.articulated_bias.resize(static_cast<std::size_t>(m.nbody()));
-    ws.articulated_columns.resize(static_cast<std::size_t>(m.nu));
-    ws.joint_inverse.assign(m.joints.size(), Mat6<double>::Zero());
-  } else {
-    ws.articulated_body = false;  // the 3-D recursion is on double only
-  }
+  ws.articulated_inertia.resize(static_cast<std::size_t>(m.nbody()));
+  ws.articulated_bias.resize(static_cast<std::size_t>(m.nbody()));
+  ws.articulated_columns.resize(static_cast<std::size_t>(m.nu));
+  if constexpr (std::is_same_v<S, double>) ws.joint_inverse.assign(m.joints.size(), Mat6<double>::Zero());
 }
 
 namespace {

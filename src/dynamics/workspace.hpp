@@ -61,9 +61,11 @@ struct ConstraintSparsity {
 // An articulated-body inertia [A B; Bᵀ C] at a body's Q (dynamics/articulated_body.cpp): the
 // symmetric blocks A (rotational) and C (translational) by their entries xx, yy, zz, xy, xz, yz,
 // B by rows.
-struct ArticulatedInertia {
-  double A[6], B[9], C[6];
+template <class S>
+struct ArticulatedInertiaT {
+  S A[6], B[9], C[6];
 };
+using ArticulatedInertia = ArticulatedInertiaT<double>;
 
 // Frames (math/spatial.hpp): every body's spatial quantities are taken at its reference point,
 // the joint point Q_b of its inboard joint (on the body), with world-aligned axes; a joint's
@@ -126,17 +128,17 @@ struct Workspace {
   MatX<S> cholesky;                // nu×nu: upper triangle = U, mass_matrix = Uᵀ U (U = Lᵀ), or
                                    //        the tree factor LᵀDL (tree_factor)
   std::vector<double> inverse_pivots;  // nu: 1/U(j, j) of the dense factor on double (its solve)
-  // evaluate_rhs on double finds u̇ by the articulated-body algorithm (articulated_body_accelerations)
-  // instead of M and its factor: set by the constructor for unconstrained chains evaluated in 3-D
-  // whose joints have at most one speed each, or of at least kArticulatedBodyMinSpeeds speeds,
-  // where it is the faster; on every scalar for unconstrained planar chains of one-speed joints. M, its factor and f are then not formed by evaluate_rhs
+  // evaluate_rhs finds u̇ by the articulated-body algorithm (articulated_body_accelerations)
+  // instead of M and its factor: set by the constructor, on every scalar, for unconstrained chains
+  // whose joints have at most one speed each, and on double for unconstrained 3-D chains of at
+  // least kArticulatedBodyMinSpeeds speeds, where it is the faster. M, its factor and f are then not formed by evaluate_rhs
   // (evaluate_mass_matrix_and_forcing still forms them); callers that read them after
   // evaluate_rhs turn it off (set_articulated_body).
   bool articulated_body = false;
-  std::vector<ArticulatedInertia> articulated_inertia;  // nb: I^A at Q_b (sized only when articulated_body)
-  std::vector<std::array<double, 6>> articulated_bias;  // nb: p^A at Q_b, then the acceleration less the bias
-  std::vector<std::array<double, 6>> articulated_columns;  // nu: U'/D at the parent's point (joints of one
-                                                           //     speed), U_k = I^A s_k (several)
+  std::vector<ArticulatedInertiaT<S>> articulated_inertia;  // nb: I^A at Q_b (sized only when articulated_body)
+  std::vector<std::array<S, 6>> articulated_bias;  // nb: p^A at Q_b, then the acceleration less the bias
+  std::vector<std::array<S, 6>> articulated_columns;  // nu: U'/D at the parent's point (joints of one
+                                                      //     speed), U_k = I^A s_k (several)
   std::vector<Mat6<double>> joint_inverse;  // nj: (Sᵀ I^A S)⁻¹ in the leading nu_j × nu_j block (several speeds)
   // Multi-tangent scalars: the factor of M's value (as cholesky) and one value solve;
   // the tangents are solved with it (apply_mass_inverse).
@@ -191,8 +193,8 @@ inline constexpr int kArticulatedBodyMinSpeeds = 28;
 
 // Turns the articulated-body evaluation on (sizing its arrays) or off; it stays off on a model
 // with constraints (their multipliers need M's factor), and on a model evaluated with the planar
-// path unless each of its joints has at most one speed. On scalars other than double only the
-// planar recursion exists: it stays off on the 3-D path.
+// path unless each of its joints has at most one speed. On scalars other than double the 3-D
+// recursion too needs joints of at most one speed.
 template <class S>
 void set_articulated_body(const Model& model, Workspace<S>& ws, bool on);
 // Whether evaluate_rhs finds u̇ by the articulated-body recursion: turned on, and sized for the
@@ -202,8 +204,7 @@ bool uses_articulated_body(const Model& model, const Workspace<S>& ws) {
   const auto nb = static_cast<std::size_t>(model.nbody());
   if (!ws.articulated_body) return false;
   if (model.evaluate_planar()) return ws.articulated_inertia_planar.size() == nb;
-  if constexpr (std::is_same_v<S, double>) return ws.articulated_inertia.size() == nb;
-  return false;
+  return ws.articulated_inertia.size() == nb;
 }
 
 // Evaluates parameter-only expressions and the derived per-body/per-joint constants.

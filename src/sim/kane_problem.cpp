@@ -35,7 +35,7 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       s_full_(static_cast<std::size_t>(model.nstate())) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
   if (!model.evaluate_planar()) sensitivity_method_ = DerivativeMethod::residual;
-  // J v's dual pass takes the recursion on the planar path only (dynamics/workspace.hpp).
+  // J v's dual pass takes the recursion for joints of one speed only (dynamics/workspace.hpp).
   jacobian_times_cheap_ = !dynamics::uses_articulated_body(model, workspaces_.values()) ||
                           dynamics::uses_articulated_body(model, workspaces_.jacobian());
   if (options_.stabilization == ConstraintOptions::Stabilization::baumgarte) {

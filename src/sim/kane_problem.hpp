@@ -91,9 +91,10 @@ class KaneProblem final : public OdeProblem {
   // jacobian() does not pay here: with one tangent, forming M's value factor per product costs
   // more than the mass matrix's tangent saves.)
   bool has_jacobian_times() const override { return true; }
-  // False where rhs() finds u̇ by the 3-D articulated-body recursion (O(n), on double only): J v's
-  // dual pass forms and factors M instead (O(n³)), so Newton–Krylov with exact products loses to
-  // the dense solver there (docs/explanation/solvers.md). The planar recursion runs on duals too.
+  // False where rhs() finds u̇ by the articulated-body recursion (O(n)) and J v's dual pass cannot:
+  // 3-D chains with joints of several speeds, whose recursion runs on double only, so the dual
+  // pass forms and factors M (O(n³)) and Newton–Krylov with exact products loses to the dense
+  // solver (docs/explanation/solvers.md). Chains of one-speed joints take it on duals too.
   bool jacobian_times_cheap() const override { return jacobian_times_cheap_; }
   void jacobian_times(double t, const double* y, const double* ydot, const double* v, double* Jv) override;
   int num_sensitivities() const override { return static_cast<int>(sens_.size()); }

@@ -6,6 +6,7 @@
 // that angle (rad), which makes the scene 3-D.
 #pragma once
 #include <cmath>
+#include <sstream>
 #include <string>
 
 namespace kanesens::test_scenes {
@@ -27,6 +28,21 @@ inline std::string chain_scene(int n, double tilt = 0.0) {
          (i == 1 ? "0" : "\"-L/2\"") + ", 0], child_point: [0, \"L/2\", 0]}\n";
   }
   return s;
+}
+
+// A chain of n boxes on spherical joints (3 speeds each, quaternion coordinates), hanging along −y.
+inline std::string ball_chain(int n) {
+  std::ostringstream s;  // (string concatenation here trips GCC 12's false -Wrestrict)
+  s << "kanesens: 1\nscene:\n  name: balls\n  gravity: [0, -9.81, 0]\n  bodies:\n";
+  for (int i = 1; i <= n; ++i) s << "    - {name: b" << i << ", mass: 1, inertia: {shape: box, size: [0.1, 1, 0.2]}}\n";
+  s << "  joints:\n";
+  for (int i = 1; i <= n; ++i) {
+    s << "    - {name: j" << i << ", type: spherical, parent: ";
+    if (i == 1) s << "ground";
+    else s << "b" << i - 1;
+    s << ", child: b" << i << ", parent_point: [0, " << (i == 1 ? "0" : "-0.5") << ", 0], child_point: [0, 0.5, 0]}\n";
+  }
+  return s.str();
 }
 
 // bench/n_four_bar.py's scene, the IFToMM N four-bar mechanism: N+1 cranks on the ground, coupler

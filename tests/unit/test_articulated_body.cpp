@@ -9,6 +9,7 @@
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <tuple>
 #include <utility>
 
 #include "dynamics/equations.hpp"
@@ -26,20 +27,6 @@ struct Case {
 };
 
 // A chain of n links on ball joints (3 speeds each), hanging from the ground.
-std::string ball_chain(int n) {
-  std::ostringstream s;
-  s << "kanesens: 1\nscene:\n  name: balls\n  gravity: [0, -9.81, 0]\n  bodies:\n";
-  for (int i = 1; i <= n; ++i) s << "    - {name: b" << i << ", mass: 1, inertia: {shape: box, size: [0.1, 1, 0.2]}}\n";
-  s << "  joints:\n";
-  for (int i = 1; i <= n; ++i) {
-    s << "    - {name: j" << i << ", type: spherical, parent: ";
-    if (i == 1) s << "ground";
-    else s << "b" << i - 1;
-    s << ", child: b" << i << ", parent_point: [0, " << (i == 1 ? "0" : "-0.5") << ", 0], child_point: [0, 0.5, 0]}\n";
-  }
-  return s.str();
-}
-
 // A cart on a spring and damper carrying two poles, pushed and braked: planar, one speed per joint.
 const char* kCartPoles = R"yaml(kanesens: 1
 scene:
@@ -66,7 +53,7 @@ scene:
 std::vector<Case> cases() {
   return {{"chain_tilted_8", test_scenes::chain_scene(8, 0.1)},
           {"chain_tilted_long", test_scenes::chain_scene(dynamics::kArticulatedBodyMinSpeeds + 3, 0.1)},
-          {"ball_chain", ball_chain(5)},
+          {"ball_chain", test_scenes::ball_chain(5)},
           {"chain_planar_8", test_scenes::chain_scene(8)},
           {"cart_double_pole_planar", kCartPoles},
           {"spherical", test_scenes::kSphericalScene},
@@ -147,12 +134,19 @@ void check_tangents_against_mass_matrix(const Model& m, int directions) {
   }
 }
 
-TEST(ArticulatedBody, TangentsOnThePlanarPathAsTheMassMatrixSolve) {
-  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
-           {"chain_planar_8", test_scenes::chain_scene(8)}, {"cart_double_pole_planar", kCartPoles}}) {
+TEST(ArticulatedBody, TangentsAsTheMassMatrixSolve) {
+  // Both recursions on dual and multi-tangent scalars (with parameter tangents) against forming
+  // and factoring M on the same scalar: the planar path, and the 3-D path on a tipped chain and on
+  // the cart with poles (prismatic and revolute joints) forced into 3-D.
+  for (const auto& [name, text, planar] : std::vector<std::tuple<std::string, std::string, bool>>{
+           {"chain_planar_8", test_scenes::chain_scene(8), true},
+           {"cart_double_pole_planar", kCartPoles, true},
+           {"chain_tipped_8", test_scenes::chain_scene(8, 0.1), false},
+           {"cart_double_pole_3d", kCartPoles, false}}) {
     SCOPED_TRACE(name);
-    const Model m = model_from_text(text);
-    ASSERT_TRUE(m.evaluate_planar());
+    Model m = model_from_text(text);
+    m.force_general_3d = !planar;
+    ASSERT_EQ(m.evaluate_planar(), planar);
     check_tangents_against_mass_matrix<Dual>(m, 1);
     check_tangents_against_mass_matrix<math::MultiDual<8>>(m, 8);
   }
@@ -182,15 +176,18 @@ TEST(ArticulatedBody, ChosenForUnconstrainedSpatialChainsOnly) {
   for (const int n : {1, 2, 8, dynamics::kArticulatedBodyMinSpeeds})
     EXPECT_TRUE(Workspace<double>(model_from_text(test_scenes::chain_scene(n, 0.1))).articulated_body) << n;
   const int balls = (dynamics::kArticulatedBodyMinSpeeds + 2) / 3;  // 3 balls·speeds ≥ the threshold
-  EXPECT_TRUE(Workspace<double>(model_from_text(ball_chain(balls))).articulated_body);
-  EXPECT_FALSE(Workspace<double>(model_from_text(ball_chain(balls - 1))).articulated_body);
+  EXPECT_TRUE(Workspace<double>(model_from_text(test_scenes::ball_chain(balls))).articulated_body);
+  EXPECT_FALSE(Workspace<double>(model_from_text(test_scenes::ball_chain(balls - 1))).articulated_body);
   EXPECT_FALSE(Workspace<double>(model_from_text(test_scenes::kSphericalScene)).articulated_body)
       << "4 speeds with a ball joint";
   const Model planar = model_from_text(test_scenes::chain_scene(40));
   ASSERT_TRUE(planar.evaluate_planar());
   EXPECT_TRUE(Workspace<double>(planar).articulated_body) << "the planar path's own recursion";
-  EXPECT_FALSE(Workspace<Dual>(model_from_text(test_scenes::chain_scene(8, 0.1))).articulated_body)
-      << "3-D derivatives go through M";
+  EXPECT_TRUE(Workspace<Dual>(model_from_text(test_scenes::chain_scene(8, 0.1))).articulated_body)
+      << "the 3-D recursion runs on duals for joints of one speed";
+  EXPECT_TRUE(Workspace<math::MultiDual<8>>(model_from_text(test_scenes::chain_scene(8, 0.1))).articulated_body);
+  EXPECT_FALSE(Workspace<Dual>(model_from_text(test_scenes::ball_chain(balls))).articulated_body)
+      << "several speeds a joint: on double only";
   EXPECT_TRUE(Workspace<Dual>(planar).articulated_body) << "the planar recursion runs on duals";
   EXPECT_TRUE(Workspace<math::MultiDual<8>>(planar).articulated_body);
   const Model closed = model_from_text(test_scenes::n_four_bar(6));
