@@ -10,7 +10,10 @@ Two families:
   * a planar chain of N links with joint springs and dampers (scripts/gen_chain.py), a 5-s swing
     at rtol 1e-8; error = max |state - dense state| (no closed form: the solvers' agreement);
   * optionally (--stiff-chain N:k:c) chains with stiff joints, 2 s at rtol 1e-6, with what
-    linear_solver: auto chose.
+    linear_solver: auto chose;
+  * optionally (--spatial-chain N) the benchmark chain of N links about alternating z and x axes
+    (bench/common.py, the peers' spatial chain), released from 0.5 rad at its first joint, a
+    2-s swing at rtol 1e-8: it moves in 3-D, so its right-hand side is the 3-D recursion.
 
 For every case and linear solver: `kanesens simulate` --repeat times, the median (and all) of
 the integration's wall seconds (stats.wall_seconds, setup included), and the solver counters of
@@ -18,7 +21,7 @@ the first run. Timings on a shared machine are noisy: compare the ratios of one 
 
     /usr/bin/python3 bench/newton_sweep.py --kanesens build/kanesens \\
         --out bench/results/newton_sweep.json [--four-bar 5 10 20 40] [--chain 8 16 32 64] [--repeat 3]
-        [--stiff-chain 64:1e4:10 64:1e5:100 64:1e5:1e3]
+        [--stiff-chain 64:1e4:10 64:1e5:100 64:1e5:1e3] [--spatial-chain 64 128]
 """
 from __future__ import annotations
 
@@ -35,6 +38,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import n_four_bar  # noqa: E402
+from common import chain_scene_yaml  # noqa: E402
 
 SOLVERS = {  # name: extra solver keys
     "dense": "linear_solver: dense, jacobian: exact",
@@ -81,16 +85,11 @@ def four_bar(kanesens: str, n: int, repeat: int, tmp: Path) -> dict:
     return case
 
 
-def chain(kanesens: str, n: int, repeat: int, tmp: Path) -> dict:
-    scene = tmp / f"chain_{n}.yaml"
-    text = subprocess.run([sys.executable, str(HERE.parent / "scripts" / "gen_chain.py"), str(n), "--spring", "20",
-                           "--damper", "0.2", "--q0", "0.5"], capture_output=True, text=True, check=True).stdout
-    scene.write_text(text)
-    case = {"family": "chain", "n": n, "nbody": n, "states": 2 * n, "spring": 20, "damper": 0.2, "end": 5.0,
-            "rtol": 1e-8, "atol": 1e-10, "solvers": {}}
+def against_dense(kanesens: str, case: dict, scene: Path, outputs: int, repeat: int, tmp: Path) -> dict:
+    """Every solver of SOLVERS on the scene (BDF, rtol 1e-8), each one's states against dense's."""
     for name, keys in SOLVERS.items():
-        study = tmp / f"chain_{n}_{name}.yaml"
-        study.write_text(f"kanesens: 1\nscene: {scene}\ntime: {{end: 5.0, outputs: 101}}\n"
+        study = tmp / f"{scene.stem}_{name}.yaml"
+        study.write_text(f"kanesens: 1\nscene: {scene}\ntime: {{end: {case['end']}, outputs: {outputs}}}\n"
                          f"solver: {{method: bdf, rtol: 1.0e-8, atol: 1.0e-10, {keys}}}\n")
         case["solvers"][name] = run(kanesens, study, repeat)
     ref = case["solvers"]["dense"]
@@ -98,6 +97,25 @@ def chain(kanesens: str, n: int, repeat: int, tmp: Path) -> dict:
         if r["status"] == 1 and ref["status"] == 1:
             r["max_difference_vs_dense"] = float(np.max(np.abs(r["_states"] - ref["_states"])))
     return case
+
+
+def chain(kanesens: str, n: int, repeat: int, tmp: Path) -> dict:
+    scene = tmp / f"chain_{n}.yaml"
+    text = subprocess.run([sys.executable, str(HERE.parent / "scripts" / "gen_chain.py"), str(n), "--spring", "20",
+                           "--damper", "0.2", "--q0", "0.5"], capture_output=True, text=True, check=True).stdout
+    scene.write_text(text)
+    case = {"family": "chain", "n": n, "nbody": n, "states": 2 * n, "spring": 20, "damper": 0.2, "end": 5.0,
+            "rtol": 1e-8, "atol": 1e-10, "solvers": {}}
+    return against_dense(kanesens, case, scene, 101, repeat, tmp)
+
+
+def spatial_chain(kanesens: str, n: int, repeat: int, tmp: Path) -> dict:
+    scene = tmp / f"spatial_chain_{n}.yaml"
+    scene.write_text(chain_scene_yaml(n, axes="z,x").replace("{name: j1, type: revolute,",
+                                                             "{name: j1, q0: 0.5, type: revolute,"))
+    case = {"family": "spatial_chain", "n": n, "nbody": n, "states": 2 * n, "end": 2.0, "rtol": 1e-8, "atol": 1e-10,
+            "solvers": {}}
+    return against_dense(kanesens, case, scene, 21, repeat, tmp)
 
 
 def stiff_chain(kanesens: str, n: int, k: float, c: float, repeat: int, tmp: Path) -> dict:
@@ -127,6 +145,7 @@ def main() -> None:
     ap.add_argument("--chain", type=int, nargs="*", default=[8, 16, 32, 64])
     ap.add_argument("--stiff-chain", type=str, nargs="*", default=[],
                     help="N:k:c chains with stiff joints, e.g. 64:1e5:1e3")
+    ap.add_argument("--spatial-chain", type=int, nargs="*", default=[])
     ap.add_argument("--repeat", type=int, default=3)
     a = ap.parse_args()
     cases = []
@@ -139,6 +158,8 @@ def main() -> None:
         for spec in a.stiff_chain:
             n, k, c = spec.split(":")
             cases.append(stiff_chain(a.kanesens, int(n), float(k), float(c), a.repeat, tmp))
+        for n in a.spatial_chain:
+            cases.append(spatial_chain(a.kanesens, n, a.repeat, tmp))
     for c in cases:
         dense = c["solvers"]["dense"]
         for name, r in c["solvers"].items():
@@ -146,7 +167,7 @@ def main() -> None:
                 del r[k]
             if r["status"] == 1 and dense["status"] == 1:
                 r["wall_ratio_vs_dense"] = r["wall_seconds_median"] / dense["wall_seconds_median"]
-            print(f"{c['family']:11s} N={c['n']:3d} {name:9s} {r.get('linear_solver', '')} " + (
+            print(f"{c['family']:13s} N={c['n']:3d} {name:9s} {r.get('linear_solver', '')} " + (
                 f"{r['wall_seconds_median']:8.3f} s  ratio {r.get('wall_ratio_vs_dense', 0):5.2f}  steps {r['steps']:5d}"
                 f"  rhs {r['rhs_evals']:5d}  J {r['jac_evals']:3d}  Jv {r['jtimes_evals']:5d}"
                 f"  newton {r['nonlin_iters']:5d}  err {r.get('error_vs_exact', r.get('max_difference_vs_dense', 0)):.2e}"
