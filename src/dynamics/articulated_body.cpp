@@ -86,8 +86,8 @@ ArticulatedInertiaT<S> shifted_to_parent(const ArticulatedInertiaT<S>& I, const 
     // Row i of R C R (symmetric: its upper triangle).
     for (int j = i; j < 3; ++j) {
       const S rcr = j == 0   ? RC[i][1] * r2 - RC[i][2] * r1
-                         : j == 1 ? RC[i][2] * r0 - RC[i][0] * r2
-                                  : RC[i][0] * r1 - RC[i][1] * r0;
+                    : j == 1 ? RC[i][2] * r0 - RC[i][0] * r2
+                             : RC[i][0] * r1 - RC[i][1] * r0;
       out.A[kSym[i][j]] = I.A[kSym[i][j]] - BR[i][j] - BR[j][i] - rcr;
     }
     for (int j = 0; j < 3; ++j) out.B[3 * i + j] = I.B[3 * i + j] + RC[i][j];
