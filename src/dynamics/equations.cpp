@@ -1,4 +1,5 @@
 // Dynamics stage of Kane's equations: mass matrix, forcing, energies, the solve for u̇.
+#include <algorithm>
 #include <cmath>
 #include <type_traits>
 
@@ -125,18 +126,32 @@ template <class S>
 void compute_body_wrenches(const Model& m, Workspace<S>& ws) {
   // Applied minus inertial wrench of each body at its Q: gravity m g at the mass center
   // (moment h × g), then −(I A₀ + V ×* I V).
-  const Vec3<S> g = ws.gravity;
+  // In scalars: Eigen's 3-vectors of doubles go through two-lane packets and their leftovers.
+  const S g0 = ws.gravity[0], g1 = ws.gravity[1], g2 = ws.gravity[2];
   for (int b = 0; b < m.nbody(); ++b) {
     const SpatialInertia<S>& I = ws.spatial_inertia[b];
-    const Vec3<S> w = ws.velocity[b].template head<3>(), v = ws.velocity[b].template tail<3>();
-    const Vec3<S> al = ws.bias_acceleration[b].template head<3>(), a = ws.bias_acceleration[b].template tail<3>();
+    const S* V = ws.velocity[b].data();
+    const S* A0 = ws.bias_acceleration[b].data();
+    const S w0 = V[0], w1 = V[1], w2 = V[2], v0 = V[3], v1 = V[4], v2 = V[5];
+    const S l0 = A0[0], l1 = A0[1], l2 = A0[2];
+    const S e0 = g0 - A0[3], e1 = g1 - A0[4], e2 = g2 - A0[5];
+    const S mass = I.m, h0 = I.h[0], h1 = I.h[1], h2 = I.h[2];
+    const S Ixx = I.I(0, 0), Iyy = I.I(1, 1), Izz = I.I(2, 2), Ixy = I.I(0, 1), Ixz = I.I(0, 2), Iyz = I.I(1, 2);
     // Momentum I V = (L, p), then (τ, F) = (h × g, m g) − I A − V ×* (L, p), with
     // V ×* (L, p) = (ω × L + v × p, ω × p).
-    const Vec3<S> L = I.I * w + I.h.cross(v);
-    const Vec3<S> p = I.m * v - I.h.cross(w);
-    Vec6<S>& W = ws.wrench[b];
-    W.template head<3>() = I.h.cross(g - a) - I.I * al - w.cross(L) - v.cross(p);
-    W.template tail<3>() = I.m * (g - a) + I.h.cross(al) - w.cross(p);
+    const S L0 = Ixx * w0 + Ixy * w1 + Ixz * w2 + (h1 * v2 - h2 * v1);
+    const S L1 = Ixy * w0 + Iyy * w1 + Iyz * w2 + (h2 * v0 - h0 * v2);
+    const S L2 = Ixz * w0 + Iyz * w1 + Izz * w2 + (h0 * v1 - h1 * v0);
+    const S p0 = mass * v0 - (h1 * w2 - h2 * w1);
+    const S p1 = mass * v1 - (h2 * w0 - h0 * w2);
+    const S p2 = mass * v2 - (h0 * w1 - h1 * w0);
+    S* W = ws.wrench[b].data();
+    W[0] = (h1 * e2 - h2 * e1) - (Ixx * l0 + Ixy * l1 + Ixz * l2) - (w1 * L2 - w2 * L1) - (v1 * p2 - v2 * p1);
+    W[1] = (h2 * e0 - h0 * e2) - (Ixy * l0 + Iyy * l1 + Iyz * l2) - (w2 * L0 - w0 * L2) - (v2 * p0 - v0 * p2);
+    W[2] = (h0 * e1 - h1 * e0) - (Ixz * l0 + Iyz * l1 + Izz * l2) - (w0 * L1 - w1 * L0) - (v0 * p1 - v1 * p0);
+    W[3] = mass * e0 + (h1 * l2 - h2 * l1) - (w1 * p2 - w2 * p1);
+    W[4] = mass * e1 + (h2 * l0 - h0 * l2) - (w2 * p0 - w0 * p2);
+    W[5] = mass * e2 + (h0 * l1 - h1 * l0) - (w0 * p1 - w1 * p0);
   }
   detail::for_each_force_element(m, ws, [&](int b, const Vec6<S>& w) { ws.wrench[b] += w; });
 }
@@ -297,8 +312,8 @@ bool evaluate_rhs(const Model& m, Workspace<S>& ws, const S& t, const S* y, S* y
       if (!solve_constrained_accelerations(m, ws)) why = RhsFailure::constraints_degenerate;
     }
   }
-  for (int i = 0; i < m.nq; ++i) ydot[i] = ws.qdot[i];
-  for (int i = 0; i < m.nu; ++i) ydot[m.nq + i] = ws.udot[i];
+  std::copy(ws.qdot.data(), ws.qdot.data() + m.nq, ydot);
+  std::copy(ws.udot.data(), ws.udot.data() + m.nu, ydot + m.nq);
   if (failure) *failure = why;
   return why == RhsFailure::none;
 }
