@@ -1,9 +1,11 @@
 // MuJoCo peer of `kanesens bench rhs` on the benchmark chain (tests/support/test_scenes.hpp,
 // chain_scene): N uniform rods (mass 1, length 1, central inertia diag(1/12, 1e-4, 1/12)),
 // hinges about z (or, with --axes, about the axes given, cycled along the chain: `--axes z,x` is
-// the spatial chain of bench/common.py), gravity −y, contacts disabled. Times mj_forward (positions, velocities, mass
-// matrix and its factorisation, bias forces, the solve for qacc) at the same seeded random state
-// as kanesens (q, u uniform in [-1, 1] from std::mt19937(seed)), median over batches.
+// the spatial chain of bench/common.py), gravity −y, every stage the chain does not use disabled
+// (contacts, constraints, passive forces, actuation, sensors, warm start). Times mj_forward
+// (positions, velocities, mass matrix and its factorisation, bias forces, the solve for qacc) at
+// the same seeded random state as kanesens (q, u uniform in [-1, 1] from std::mt19937(seed)),
+// median over batches.
 //
 //   mujoco_chain_bench N [--repeat R] [--seed S] [--axes z,x]    → JSON on stdout
 //
@@ -38,7 +40,9 @@ std::string axis_of(const std::string& letter) {
 std::string chain_mjcf(int n, const std::vector<std::string>& axes) {
   std::string s =
       "<mujoco model=\"chain\">\n"
-      "  <option gravity=\"0 -9.81 0\"><flag contact=\"disable\"/></option>\n"
+      // Every stage this scene does not use is off: mj_forward's best settings for it.
+      "  <option gravity=\"0 -9.81 0\"><flag contact=\"disable\" constraint=\"disable\" passive=\"disable\" "
+      "actuation=\"disable\" sensor=\"disable\" warmstart=\"disable\"/></option>\n"
       "  <worldbody>\n";
   std::string close;
   for (int i = 1; i <= n; ++i) {
