@@ -51,12 +51,7 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
       // The common case in straight-line code: a revolute about a coordinate axis e_i of the
       // parent (and of the child: column i is shared) with no travel.
       using std::cos, std::sin;
-      const S c = cos(qj[0]), sn = sin(qj[0]);
-      switch (i) {  // the axis a template argument: straight-line code inlined here
-        case 0: math::rotate_about_coordinate_axis<0, S>(R_P, c, sn, R_C); break;
-        case 1: math::rotate_about_coordinate_axis<1, S>(R_P, c, sn, R_C); break;
-        default: math::rotate_about_coordinate_axis<2, S>(R_P, c, sn, R_C); break;
-      }
+      math::rotate_about_coordinate_axis<S>(R_P, i, cos(qj[0]), sin(qj[0]), R_C);
       if (P >= 0) {
         Vec3<S>& r = ws.joint_offset[ji];
         r.noalias() = R_P * ws.joint_lever[ji];

@@ -52,9 +52,12 @@ Mat3<S> axis_angle(const Vec3<S>& a, const S& q) {
 
 // R_P R(e_i, q): a rotation about a coordinate axis e_i leaves column i and mixes the other two
 // (c, s = cos q, sin q) — 12 multiplications instead of the 27 of R_P times axis_angle, with the
-// same rounding (the other products are by exact zeros and ones).
+// same rounding (the other products are by exact zeros and ones). Inlined where it is called (the
+// 3-D position stage runs it once per joint): out of line, the call costs about as much as the
+// twelve products.
 template <int i, class S>
-void rotate_about_coordinate_axis(const Mat3<S>& R_P, const S& c, const S& s, Mat3<S>& R_C) {
+[[gnu::always_inline]] inline void rotate_about_coordinate_axis(const Mat3<S>& R_P, const S& c, const S& s,
+                                                                Mat3<S>& R_C) {
   constexpr int j = (i + 1) % 3, k = (i + 2) % 3;
   R_C.col(i) = R_P.col(i);
   for (int r = 0; r < 3; ++r) {
@@ -64,7 +67,8 @@ void rotate_about_coordinate_axis(const Mat3<S>& R_P, const S& c, const S& s, Ma
   }
 }
 template <class S>
-void rotate_about_coordinate_axis(const Mat3<S>& R_P, int i, const S& c, const S& s, Mat3<S>& R_C) {
+[[gnu::always_inline]] inline void rotate_about_coordinate_axis(const Mat3<S>& R_P, int i, const S& c, const S& s,
+                                                                Mat3<S>& R_C) {
   switch (i) {  // constant column indices: straight-line code
     case 0: return rotate_about_coordinate_axis<0>(R_P, c, s, R_C);
     case 1: return rotate_about_coordinate_axis<1>(R_P, c, s, R_C);
