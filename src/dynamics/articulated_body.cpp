@@ -33,16 +33,39 @@ using Force6 = std::array<S, 6>;
 // Position of (i, j) in the 6-entry storage of a symmetric 3×3 block.
 constexpr int kSym[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
 
+// Body b's articulated inertia and bias before its joint is swept: its own rigid inertia
+// [I h×; −h× m1] and −W_b, plus the sums its children left in its slots (when it has any).
 template <class S>
-void from_spatial_inertia(const SpatialInertia<S>& X, ArticulatedInertiaT<S>& I) {
-  // [I h×; −h× m1]: B = h× (B a = h × a).
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j) I.A[kSym[i][j]] = X.I(i, j);
-  const S h0 = X.h[0], h1 = X.h[1], h2 = X.h[2];
-  const S B[9] = {S(0), -h2, h1, h2, S(0), -h0, -h1, h0, S(0)};
-  for (int k = 0; k < 9; ++k) I.B[k] = B[k];
-  I.C[0] = I.C[1] = I.C[2] = X.m;
-  I.C[3] = I.C[4] = I.C[5] = S(0);
+[[gnu::always_inline]] inline void own_plus_children(const SpatialInertia<S>& X, const Vec6<S>& W,
+                                                     bool children, const ArticulatedInertiaT<S>& sum,
+                                                     const std::array<S, 6>& sum_bias, ArticulatedInertiaT<S>& I,
+                                                     S p[6]) {
+  const S m = X.m, h0 = X.h[0], h1 = X.h[1], h2 = X.h[2];
+  const S a[6] = {X.I(0, 0), X.I(1, 1), X.I(2, 2), X.I(0, 1), X.I(0, 2), X.I(1, 2)};
+  if (!children) {
+    for (int k = 0; k < 6; ++k) I.A[k] = a[k];
+    I.B[0] = S(0), I.B[1] = -h2, I.B[2] = h1;
+    I.B[3] = h2, I.B[4] = S(0), I.B[5] = -h0;
+    I.B[6] = -h1, I.B[7] = h0, I.B[8] = S(0);
+    I.C[0] = I.C[1] = I.C[2] = m;
+    I.C[3] = I.C[4] = I.C[5] = S(0);
+    for (int k = 0; k < 6; ++k) p[k] = -W[k];
+    return;
+  }
+  for (int k = 0; k < 6; ++k) I.A[k] = sum.A[k] + a[k];
+  I.B[0] = sum.B[0], I.B[1] = sum.B[1] - h2, I.B[2] = sum.B[2] + h1;
+  I.B[3] = sum.B[3] + h2, I.B[4] = sum.B[4], I.B[5] = sum.B[5] - h0;
+  I.B[6] = sum.B[6] - h1, I.B[7] = sum.B[7] + h0, I.B[8] = sum.B[8];
+  for (int k = 0; k < 3; ++k) I.C[k] = sum.C[k] + m;
+  for (int k = 3; k < 6; ++k) I.C[k] = sum.C[k];
+  for (int k = 0; k < 6; ++k) p[k] = sum_bias[k] - W[k];
+}
+
+// A child's share of its parent's slots: the first child swept writes them, the others add.
+template <bool first, class S>
+[[gnu::always_inline]] inline void put(S& slot, const S& share) {
+  if constexpr (first) slot = share;
+  else slot += share;
 }
 
 void to_matrix(const ArticulatedInertia& I, M6& M) {
@@ -66,46 +89,46 @@ void from_matrix(const M6& M, ArticulatedInertia& I) {
 
 // Xᵀ I X, X the shift of motion vectors from Q_P to Q_C = Q_P + r: an articulated inertia at the
 // child's point seen from the parent's. With R = r×: A' = A − B R − (B R)ᵀ − R C R, B' = B + R C,
-// C' = C (row i of B R is b_i × r, column j of R C is r × c_j).
+// C' = C. Since R C R is symmetric, A' = A − K R − (K R)ᵀ with K = B + H, H = ½ R C, and
+// B' = K + H: 39 multiplications instead of 48 (row i of K R is k_i × r, column j of R C is
+// r × c_j).
 template <class S>
-ArticulatedInertiaT<S> shifted_to_parent(const ArticulatedInertiaT<S>& I, const S r[3]) {
+[[gnu::always_inline]] inline ArticulatedInertiaT<S> shifted_to_parent(const ArticulatedInertiaT<S>& I,
+                                                                       const S r[3]) {
   const S r0 = r[0], r1 = r[1], r2 = r[2];
+  const S q0 = S(0.5) * r0, q1 = S(0.5) * r1, q2 = S(0.5) * r2;
   ArticulatedInertiaT<S> out;
-  S BR[3][3], RC[3][3];
-  for (int i = 0; i < 3; ++i) {
-    const S b0 = I.B[3 * i], b1 = I.B[3 * i + 1], b2 = I.B[3 * i + 2];
-    BR[i][0] = b1 * r2 - b2 * r1;
-    BR[i][1] = b2 * r0 - b0 * r2;
-    BR[i][2] = b0 * r1 - b1 * r0;
-    const S c0 = I.C[kSym[0][i]], c1 = I.C[kSym[1][i]], c2 = I.C[kSym[2][i]];
-    RC[0][i] = r1 * c2 - r2 * c1;
-    RC[1][i] = r2 * c0 - r0 * c2;
-    RC[2][i] = r0 * c1 - r1 * c0;
-  }
-  for (int i = 0; i < 3; ++i) {
-    // Row i of R C R (symmetric: its upper triangle).
-    for (int j = i; j < 3; ++j) {
-      const S rcr = j == 0   ? RC[i][1] * r2 - RC[i][2] * r1
-                    : j == 1 ? RC[i][2] * r0 - RC[i][0] * r2
-                             : RC[i][0] * r1 - RC[i][1] * r0;
-      out.A[kSym[i][j]] = I.A[kSym[i][j]] - BR[i][j] - BR[j][i] - rcr;
+  S K[3][3];
+  for (int j = 0; j < 3; ++j) {
+    const S c0 = I.C[kSym[0][j]], c1 = I.C[kSym[1][j]], c2 = I.C[kSym[2][j]];
+    const S H[3] = {q1 * c2 - q2 * c1, q2 * c0 - q0 * c2, q0 * c1 - q1 * c0};
+    for (int i = 0; i < 3; ++i) {
+      K[i][j] = I.B[3 * i + j] + H[i];
+      out.B[3 * i + j] = K[i][j] + H[i];
     }
-    for (int j = 0; j < 3; ++j) out.B[3 * i + j] = I.B[3 * i + j] + RC[i][j];
   }
+  S KR[3][3];
+  for (int i = 0; i < 3; ++i) {
+    KR[i][0] = K[i][1] * r2 - K[i][2] * r1;
+    KR[i][1] = K[i][2] * r0 - K[i][0] * r2;
+    KR[i][2] = K[i][0] * r1 - K[i][1] * r0;
+  }
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) out.A[kSym[i][j]] = I.A[kSym[i][j]] - (KR[i][j] + KR[j][i]);
   for (int k = 0; k < 6; ++k) out.C[k] = I.C[k];
   return out;
 }
 
-template <class S>
+template <bool first, class S>
 void add_to(const ArticulatedInertiaT<S>& X, ArticulatedInertiaT<S>& parent) {
-  for (int k = 0; k < 6; ++k) parent.A[k] += X.A[k];
-  for (int k = 0; k < 9; ++k) parent.B[k] += X.B[k];
-  for (int k = 0; k < 6; ++k) parent.C[k] += X.C[k];
+  for (int k = 0; k < 6; ++k) put<first>(parent.A[k], X.A[k]);
+  for (int k = 0; k < 9; ++k) put<first>(parent.B[k], X.B[k]);
+  for (int k = 0; k < 6; ++k) put<first>(parent.C[k], X.C[k]);
 }
 
 // (n, f) at Q_C as a force at Q_P = Q_C − r: (n + r × f, f).
 template <class S>
-Force6<S> force_to_parent(const S f[6], const S r[3]) {
+[[gnu::always_inline]] inline Force6<S> force_to_parent(const S f[6], const S r[3]) {
   return {f[0] + (r[1] * f[5] - r[2] * f[4]), f[1] + (r[2] * f[3] - r[0] * f[5]),
           f[2] + (r[0] * f[4] - r[1] * f[3]), f[3], f[4], f[5]};
 }
@@ -116,7 +139,7 @@ Force6<S> force_to_parent(const S f[6], const S r[3]) {
 // (one rank-one update, at the parent's point). Stores W = U'/D and u/D, from which the forward
 // sweep gets u̇ = u/D − Wᵀ δa_P (δa_P at the parent's point, since U'ᵀ δa_P = Uᵀ X δa_P).
 // Returns false unless D > 0.
-template <class S>
+template <bool first, class S>
 bool one_speed_to_parent(const ArticulatedInertiaT<S>& I, const S p[6], const S a[3], bool rotation, const S& tau,
                          const S r[3], bool has_parent, ArticulatedInertiaT<S>* parent, S* parent_bias, S W[6],
                          S& u_over_d) {
@@ -143,13 +166,13 @@ bool one_speed_to_parent(const ArticulatedInertiaT<S>& I, const S p[6], const S 
   const ArticulatedInertiaT<S> X = shifted_to_parent(I, r);
   for (int i = 0; i < 3; ++i) {
     for (int j = i; j < 3; ++j) {
-      parent->A[kSym[i][j]] += X.A[kSym[i][j]] - Up[i] * W[j];
-      parent->C[kSym[i][j]] += X.C[kSym[i][j]] - Up[3 + i] * W[3 + j];
+      put<first>(parent->A[kSym[i][j]], X.A[kSym[i][j]] - Up[i] * W[j]);
+      put<first>(parent->C[kSym[i][j]], X.C[kSym[i][j]] - Up[3 + i] * W[3 + j]);
     }
-    for (int j = 0; j < 3; ++j) parent->B[3 * i + j] += X.B[3 * i + j] - Up[i] * W[3 + j];
+    for (int j = 0; j < 3; ++j) put<first>(parent->B[3 * i + j], X.B[3 * i + j] - Up[i] * W[3 + j]);
   }
   const Force6<S> pp = force_to_parent<S>(p, r);
-  for (int i = 0; i < 6; ++i) parent_bias[i] += pp[i] + Up[i] * u_over_d;
+  for (int i = 0; i < 6; ++i) put<first>(parent_bias[i], pp[i] + Up[i] * u_over_d);
   return true;
 }
 
@@ -189,26 +212,29 @@ bool project_speeds(ArticulatedInertia& I, double p[6], const Vec6<double>* s, c
 
 template <class S>
 bool articulated_body_accelerations(const Model& m, Workspace<S>& ws) {
-  for (int b = 0; b < m.nbody(); ++b) {
-    from_spatial_inertia(ws.spatial_inertia[b], ws.articulated_inertia[b]);
-    for (int i = 0; i < 6; ++i) ws.articulated_bias[b][i] = -ws.wrench[b][i];
-  }
   S* x = ws.udot.data();  // u/D (one speed) or u = τ − Sᵀ p^A (several) on the way in, u̇ out
-  // Leaves to roots: I^A, p^A of each body's subtree.
+  // Leaves to roots: I^A, p^A of each body's subtree; each child's share goes to its parent's
+  // slots (Workspace::articulated_first).
   for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
     const Joint& J = m.joints[*it];
-    const int n = J.nu, k0 = J.u_offset;
-    ArticulatedInertiaT<S>& IA = ws.articulated_inertia[J.child];
-    S* pA = ws.articulated_bias[J.child].data();
+    const int n = J.nu, k0 = J.u_offset, C = J.child;
+    ArticulatedInertiaT<S> IA;
+    S pA[6];
+    own_plus_children(ws.spatial_inertia[C], ws.wrench[C], ws.articulated_has_children[C] != 0,
+                      ws.articulated_inertia[C], ws.articulated_bias[C], IA, pA);
     const S* r = ws.joint_offset[*it].data();
-    const bool has_parent = J.parent >= 0;
+    const bool has_parent = J.parent >= 0, first = ws.articulated_first[*it] != 0;
     if (n == 1) {
       const Vec6<S>& s = ws.partial[k0];
       const bool rotation = m.speed_rotation[k0] != 0;
-      if (!one_speed_to_parent(IA, pA, rotation ? s.data() : s.data() + 3, rotation, ws.forcing[k0], r, has_parent,
-                               has_parent ? &ws.articulated_inertia[J.parent] : nullptr,
-                               has_parent ? ws.articulated_bias[J.parent].data() : nullptr,
-                               ws.articulated_columns[k0].data(), x[k0]))
+      const S* a = rotation ? s.data() : s.data() + 3;
+      ArticulatedInertiaT<S>* parent = has_parent ? &ws.articulated_inertia[J.parent] : nullptr;
+      S* parent_bias = has_parent ? ws.articulated_bias[J.parent].data() : nullptr;
+      S* W = ws.articulated_columns[k0].data();
+      if (!(first ? one_speed_to_parent<true>(IA, pA, a, rotation, ws.forcing[k0], r, has_parent, parent, parent_bias,
+                                              W, x[k0])
+                  : one_speed_to_parent<false>(IA, pA, a, rotation, ws.forcing[k0], r, has_parent, parent,
+                                               parent_bias, W, x[k0])))
         return false;
       continue;
     }
@@ -223,9 +249,16 @@ bool articulated_body_accelerations(const Model& m, Workspace<S>& ws) {
         for (int i = 0; i < 6; ++i) ws.articulated_columns[k0 + c][i] = U[c][i];
     }
     if (has_parent) {
-      add_to(shifted_to_parent(IA, r), ws.articulated_inertia[J.parent]);
+      const ArticulatedInertiaT<S> X = shifted_to_parent(IA, r);
       const Force6<S> pp = force_to_parent<S>(pA, r);
-      for (int i = 0; i < 6; ++i) ws.articulated_bias[J.parent][i] += pp[i];
+      S* parent_bias = ws.articulated_bias[J.parent].data();
+      if (first) {
+        add_to<true>(X, ws.articulated_inertia[J.parent]);
+        for (int i = 0; i < 6; ++i) parent_bias[i] = pp[i];
+      } else {
+        add_to<false>(X, ws.articulated_inertia[J.parent]);
+        for (int i = 0; i < 6; ++i) parent_bias[i] += pp[i];
+      }
     }
   }
   // Roots to leaves: δa_C = X δa_P + S u̇, with u̇ = u/D − Wᵀ δa_P (one speed) or

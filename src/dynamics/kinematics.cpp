@@ -32,6 +32,8 @@ template <class S>
 void rotate_body_inertia(Workspace<S>& ws, int C, const Mat3<S>& R_C) {
   if (!std::is_same_v<S, double> && ws.inertia_constant[static_cast<std::size_t>(C)])
     math::rotate_constant_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
+  else if (ws.inertia_diagonal[static_cast<std::size_t>(C)])
+    math::rotate_diagonal_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
   else
     rotate_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
 }

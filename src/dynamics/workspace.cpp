@@ -30,6 +30,7 @@ Workspace<S>::Workspace(const Model& m)
       reference_point(m.nbody()),
       inertia_local(m.nbody()),
       inertia_constant(static_cast<std::size_t>(m.nbody()), 1),
+      inertia_diagonal(static_cast<std::size_t>(m.nbody()), 0),
       joint_axis(m.joints.size(), Vec3<S>::Zero()),
       joint_axis2(m.joints.size(), Vec3<S>::Zero()),
       plane_e1(m.joints.size(), Vec3<S>::Zero()),
@@ -141,6 +142,15 @@ void set_articulated_body(const Model& m, Workspace<S>& ws, bool on) {
   ws.articulated_inertia.resize(static_cast<std::size_t>(m.nbody()));
   ws.articulated_bias.resize(static_cast<std::size_t>(m.nbody()));
   ws.articulated_columns.resize(static_cast<std::size_t>(m.nu));
+  ws.articulated_first.assign(m.joints.size(), 0);
+  ws.articulated_has_children.assign(static_cast<std::size_t>(m.nbody()), 0);
+  for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
+    const int P = m.joints[static_cast<std::size_t>(*it)].parent;
+    if (P < 0) continue;
+    unsigned char& seen = ws.articulated_has_children[static_cast<std::size_t>(P)];
+    ws.articulated_first[static_cast<std::size_t>(*it)] = seen ? 0 : 1;
+    seen = 1;
+  }
   if constexpr (std::is_same_v<S, double>) ws.joint_inverse.assign(m.joints.size(), Mat6<double>::Zero());
 }
 
@@ -200,6 +210,8 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
   for (int b = 0; b < m.nbody(); ++b) {
     const SpatialInertia<S>& I = ws.inertia_local[b] = math::body_inertia_at<S>(ws.mass[b], ws.inertia_body[b], ws.reference_point[b]);
     ws.inertia_constant[static_cast<std::size_t>(b)] = !math::has_tangent(I.m) && !has_tangent(I.h) && !has_tangent(I.I);
+    auto zero = [](const S& x) { return value_of(x) == 0 && !math::has_tangent(x); };
+    ws.inertia_diagonal[static_cast<std::size_t>(b)] = zero(I.I(0, 1)) && zero(I.I(0, 2)) && zero(I.I(1, 2));
   }
   ws.gravity = vec3(ws, m.gravity);
 }

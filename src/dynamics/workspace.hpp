@@ -86,6 +86,9 @@ struct Workspace {
   std::vector<SpatialInertia<S>> inertia_local;  // nb: at Q_b, body-frame components
   std::vector<char> inertia_constant;  // nb: inertia_local carries no tangent (a plain number on
                                        //     S; rotate_constant_inertia applies)
+  std::vector<char> inertia_diagonal;  // nb: inertia_local's I is diagonal, its off-diagonal
+                                       //     entries exact zeros without tangents
+                                       //     (rotate_diagonal_inertia applies)
   std::vector<Vec3<S>> joint_axis, joint_axis2, plane_e1, plane_e2;  // nj, unit (0 if degenerate)
   std::vector<int> joint_axis_index;  // nj: i when joint_axis is exactly e_i (a rotation about it
                                       //     moves two columns), −1 otherwise or if it has a tangent
@@ -140,6 +143,12 @@ struct Workspace {
   std::vector<std::array<S, 6>> articulated_columns;  // nu: U'/D at the parent's point (joints of one
                                                       //     speed), U_k = I^A s_k (several)
   std::vector<Mat6<double>> joint_inverse;  // nj: (Sᵀ I^A S)⁻¹ in the leading nu_j × nu_j block (several speeds)
+  // The sweep from the leaves adds each child's share to its parent's slots, which therefore
+  // hold the children's sums only: the first child of a parent to be swept (articulated_first,
+  // per joint) writes them, the others add, and a body's own inertia and bias are added when
+  // its joint is swept (articulated_has_children, per body), not copied in beforehand.
+  std::vector<unsigned char> articulated_first;         // nj
+  std::vector<unsigned char> articulated_has_children;  // nb
   // Multi-tangent scalars: the factor of M's value (as cholesky) and one value solve;
   // the tangents are solved with it (apply_mass_inverse).
   Eigen::MatrixXd value_factor;    // nu×nu

@@ -252,6 +252,26 @@ void rotate_inertia(const SpatialInertia<S>& X, const Mat3<S>& R, SpatialInertia
     }
 }
 
+// rotate_inertia for an X whose I is diagonal (a body whose mass center lies on a principal axis
+// through its reference point, as a link's does): I_w = Σ_k I_kk R_k R_kᵀ, R_k column k of R,
+// 27 multiplications instead of 45 and the same values bit for bit (rotate_inertia's products by
+// the zero entries add exact zeros).
+template <class S>
+void rotate_diagonal_inertia(const SpatialInertia<S>& X, const Mat3<S>& R, SpatialInertia<S>& out) {
+  out.m = X.m;
+  out.h.noalias() = R * X.h;
+  const S d[3] = {X.I(0, 0), X.I(1, 1), X.I(2, 2)};
+  S T[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) T[i][k] = R(i, k) * d[k];
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      const S x = T[i][0] * R(j, 0) + T[i][1] * R(j, 1) + T[i][2] * R(j, 2);
+      out.I(i, j) = x;
+      if (j != i) out.I(j, i) = x;
+    }
+}
+
 // rotate_inertia for an X that carries no tangent (a body's inertia when no parameter is
 // differentiated) and an R that may. With T = R₀ I on values, P = R Tᵀ has the value R₀ I R₀ᵀ and
 // in each tangent δR I R₀ᵀ, one half of the product's tangent δR I R₀ᵀ + R₀ I δRᵀ; the other half

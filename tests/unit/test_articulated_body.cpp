@@ -50,6 +50,35 @@ scene:
     - {type: torque, name: brake, body: pole, vector: [0, 0, "-0.1*hinge.u"], frame: body}
 )yaml";
 
+// A branched tree: the torso carries three limbs and one of them two more (the sweep from the
+// leaves adds several children's shares to one parent), with inertias diagonal and not at the
+// joint points, axes along coordinate axes and not, and a prismatic joint.
+const char* kBranched = R"yaml(kanesens: 1
+scene:
+  name: branched
+  gravity: [0, -9.81, 0]
+  parameters: {m: 1.2, k: 5}
+  bodies:
+    - {name: torso, mass: 3, inertia: {xx: 0.2, yy: 0.1, zz: 0.15, xy: 0.01}}
+    - {name: left, mass: m, inertia: {shape: rod, length: 0.8, axis: y}}
+    - {name: right, mass: 0.9, inertia: {shape: rod, length: 0.7, axis: y}}
+    - {name: head, mass: 0.5, inertia: {shape: sphere, radius: 0.1}}
+    - {name: hand, mass: 0.2, inertia: {xx: 0.01, yy: 0.02, zz: 0.015, yz: 0.002}}
+    - {name: finger, mass: 0.1, inertia: {shape: rod, length: 0.2, axis: x}}
+  joints:
+    - {name: waist, type: revolute, parent: ground, child: torso, axis: [0, 1, 0], child_point: [0, -0.3, 0]}
+    - {name: lshoulder, type: revolute, parent: torso, child: left, axis: [1, 0, 0],
+       parent_point: [-0.2, 0.3, 0], child_point: [0, 0.4, 0]}
+    - {name: rshoulder, type: revolute, parent: torso, child: right, axis: [0, 0.6, 0.8],
+       parent_point: [0.2, 0.3, 0.05], child_point: [0.05, 0.35, 0]}
+    - {name: neck, type: prismatic, parent: torso, child: head, axis: [0, 1, 0], parent_point: [0, 0.35, 0],
+       spring: {k: k, rest: 0.05}}
+    - {name: wrist, type: revolute, parent: right, child: hand, axis: [0, 0, 1],
+       parent_point: [0, -0.35, 0], child_point: [0.1, 0.05, 0]}
+    - {name: knuckle, type: revolute, parent: right, child: finger, axis: [1, 1, 0],
+       parent_point: [0, -0.3, 0.05], child_point: [-0.1, 0, 0]}
+)yaml";
+
 std::vector<Case> cases() {
   return {{"chain_tilted_8", test_scenes::chain_scene(8, 0.1)},
           {"chain_tilted_long", test_scenes::chain_scene(dynamics::kArticulatedBodyMinSpeeds + 3, 0.1)},
@@ -58,7 +87,8 @@ std::vector<Case> cases() {
           {"cart_double_pole_planar", kCartPoles},
           {"spherical", test_scenes::kSphericalScene},
           {"free_universal_cylindrical", test_scenes::kFreeScene},
-          {"forces_prismatic_planar", test_scenes::kForcesScene}};
+          {"forces_prismatic_planar", test_scenes::kForcesScene},
+          {"branched_tree", kBranched}};
 }
 
 TEST(ArticulatedBody, AcceleratesAsTheMassMatrixSolve) {
@@ -102,6 +132,7 @@ template <class S>
 void check_tangents_against_mass_matrix(const Model& m, int directions) {
   Workspace<S> crba(m), aba(m);
   dynamics::set_articulated_body(m, crba, false);
+  dynamics::set_articulated_body(m, aba, true);  // a small tree: the constructor may choose M
   ASSERT_TRUE(aba.articulated_body);
   ASSERT_TRUE(dynamics::uses_articulated_body(m, aba));
   ASSERT_FALSE(dynamics::uses_articulated_body(m, crba));
@@ -136,13 +167,14 @@ void check_tangents_against_mass_matrix(const Model& m, int directions) {
 
 TEST(ArticulatedBody, TangentsAsTheMassMatrixSolve) {
   // Both recursions on dual and multi-tangent scalars (with parameter tangents) against forming
-  // and factoring M on the same scalar: the planar path, and the 3-D path on a tipped chain and on
-  // the cart with poles (prismatic and revolute joints) forced into 3-D.
+  // and factoring M on the same scalar: the planar path, and the 3-D path on a tipped chain, on
+  // the cart with poles (prismatic and revolute joints) forced into 3-D and on a branched tree.
   for (const auto& [name, text, planar] : std::vector<std::tuple<std::string, std::string, bool>>{
            {"chain_planar_8", test_scenes::chain_scene(8), true},
            {"cart_double_pole_planar", kCartPoles, true},
            {"chain_tipped_8", test_scenes::chain_scene(8, 0.1), false},
-           {"cart_double_pole_3d", kCartPoles, false}}) {
+           {"cart_double_pole_3d", kCartPoles, false},
+           {"branched_tree", kBranched, false}}) {
     SCOPED_TRACE(name);
     Model m = model_from_text(text);
     m.force_general_3d = !planar;

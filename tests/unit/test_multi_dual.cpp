@@ -202,4 +202,50 @@ TEST(MultiDual, ConstantInertiaRotatesAsTheGeneralProduct) {
   }
 }
 
+// R I Rᵀ for a diagonal I: rotate_diagonal_inertia against rotate_inertia, values bit for bit on
+// double (the general products by the zero entries add exact zeros) and tangents to round-off on
+// a multi-tangent scalar with tangents in R and in I's diagonal.
+TEST(MultiDual, DiagonalInertiaRotatesAsTheGeneralProduct) {
+  constexpr int N = 4;
+  using MD = MultiDual<N>;
+  using kanesens::math::SpatialInertia;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::Matrix3d R0 = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    SpatialInertia<double> X;
+    X.m = 1 + u(rng) * u(rng);
+    X.h = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    X.I.setZero();
+    for (int k = 0; k < 3; ++k) X.I(k, k) = 1 + u(rng);
+    SpatialInertia<double> fast, general;
+    kanesens::math::rotate_diagonal_inertia<double>(X, R0, fast);
+    kanesens::math::rotate_inertia<double>(X, R0, general);
+    for (int k = 0; k < 9; ++k) EXPECT_EQ(fast.I(k), general.I(k)) << "trial " << trial << ", entry " << k;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(fast.h[k], general.h[k]);
+    EXPECT_EQ(fast.m, general.m);
+
+    Eigen::Matrix<MD, 3, 3> R;
+    SpatialInertia<MD> Xd;
+    for (int k = 0; k < 9; ++k) {
+      R(k) = MD(R0(k));
+      R(k).set_tangents([&](int) { return u(rng); }, N);
+    }
+    Xd.m = MD(X.m);
+    for (int k = 0; k < 3; ++k) Xd.h[k] = MD(X.h[k]);
+    Xd.I.setConstant(MD(0.0));
+    for (int k = 0; k < 3; ++k) {
+      Xd.I(k, k) = MD(X.I(k, k));
+      Xd.I(k, k).set_tangents([&](int) { return u(rng); }, N);
+    }
+    SpatialInertia<MD> fd, gd;
+    kanesens::math::rotate_diagonal_inertia<MD>(Xd, R, fd);
+    kanesens::math::rotate_inertia<MD>(Xd, R, gd);
+    for (int k = 0; k < 9; ++k) {
+      EXPECT_EQ(fd.I(k).v, gd.I(k).v) << k;
+      for (int i = 0; i < N; ++i) EXPECT_NEAR(fd.I(k).d(i), gd.I(k).d(i), 1e-14) << "entry " << k << ", direction " << i;
+    }
+  }
+}
+
 }  // namespace
