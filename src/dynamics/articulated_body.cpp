@@ -6,8 +6,8 @@
 // The unknowns are the bodies' accelerations less their bias accelerations (compute_velocity's,
 // at u̇ = 0): δa_C = δa_P carried to Q_C + Σ_k s_k u̇_k. The textbook's velocity-product terms are
 // then already in the bias, and each body's bias force is p_b = −W_b, its applied minus inertial
-// wrench at u̇ = 0 (compute_body_wrenches). Three sweeps of O(1) work per joint: for a chain this
-// is cheaper than forming M (O(nu²)) and factoring it (O(nu³)).
+// wrench at u̇ = 0 (compute_body_wrenches). Two sweeps of O(1) work per joint (leaves to roots,
+// roots to leaves): for a chain this is cheaper than forming M (O(nu²)) and factoring it (O(nu³)).
 //
 // On every scalar for joints of one speed (several speeds, whose D is factored by Eigen: on
 // double only): dual and multi-tangent passes of a chain then cost O(n) like the values.
