@@ -145,8 +145,8 @@ struct Workspace {
   std::vector<Mat6<double>> joint_inverse;  // nj: (Sᵀ I^A S)⁻¹ in the leading nu_j × nu_j block (several speeds)
   // The sweep from the leaves adds each child's share to its parent's slots, which therefore
   // hold the children's sums only: the first child of a parent to be swept (articulated_first,
-  // per joint) writes them, the others add, and a body's own inertia and bias are added when
-  // its joint is swept (articulated_has_children, per body), not copied in beforehand.
+  // per joint) writes them, the others add, and a body's own inertia and bias join them when
+  // its joint is swept (articulated_has_children, per body).
   std::vector<unsigned char> articulated_first;         // nj
   std::vector<unsigned char> articulated_has_children;  // nb
   // Multi-tangent scalars: the factor of M's value (as cholesky) and one value solve;
