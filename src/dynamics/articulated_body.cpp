@@ -12,15 +12,17 @@
 // On every scalar for joints of one speed (several speeds, whose D is factored by Eigen: on
 // double only): dual and multi-tangent passes of a chain then cost O(n) like the values.
 //
-// Inertias are kept as their 21 distinct entries and every product is written in scalars: the
-// sweeps are a chain of dependent steps, and 6×6 temporaries written by rows and read by columns
-// (or in pieces and read in pairs) stall store-to-load forwarding on each of them.
+// Inertias are kept as their 21 distinct entries and every product is written in scalars (on
+// double, a rotation's step two entries at a time: one_rotation_to_parent): the sweeps are a chain
+// of dependent steps, and 6×6 temporaries written by rows and read by columns (or in pieces and
+// read in pairs) stall store-to-load forwarding on each of them.
 #include <Eigen/Cholesky>
 
 #include "dynamics/equations.hpp"
+#include "dynamics/planar_stages.hpp"
 #include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
-#include "dynamics/planar_stages.hpp"
+#include "math/two_lane.hpp"
 
 namespace kanesens::dynamics {
 
@@ -30,8 +32,9 @@ using V6 = Eigen::Matrix<double, 6, 1>;
 template <class S>
 using Force6 = std::array<S, 6>;
 
-// Position of (i, j) in the 6-entry storage of a symmetric 3×3 block.
-constexpr int kSym[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+// Position of (i, j) in the 6-entry storage of a symmetric 3×3 block: the upper triangle by
+// columns (00, 01, 11, 02, 12, 22), so that pairs the two-lane step reads sit side by side.
+constexpr int kSym[3][3] = {{0, 1, 3}, {1, 2, 4}, {3, 4, 5}};
 
 // Body b's articulated inertia and bias before its joint is swept: its own rigid inertia
 // [I h×; −h× m1] and −W_b, plus the sums its children left in its slots (when it has any).
@@ -41,14 +44,14 @@ template <class S>
                                                      const std::array<S, 6>& sum_bias, ArticulatedInertiaT<S>& I,
                                                      S p[6]) {
   const S m = X.m, h0 = X.h[0], h1 = X.h[1], h2 = X.h[2];
-  const S a[6] = {X.I(0, 0), X.I(1, 1), X.I(2, 2), X.I(0, 1), X.I(0, 2), X.I(1, 2)};
+  const S a[6] = {X.I(0, 0), X.I(0, 1), X.I(1, 1), X.I(0, 2), X.I(1, 2), X.I(2, 2)};
   if (!children) {
     for (int k = 0; k < 6; ++k) I.A[k] = a[k];
     I.B[0] = S(0), I.B[1] = -h2, I.B[2] = h1;
     I.B[3] = h2, I.B[4] = S(0), I.B[5] = -h0;
     I.B[6] = -h1, I.B[7] = h0, I.B[8] = S(0);
-    I.C[0] = I.C[1] = I.C[2] = m;
-    I.C[3] = I.C[4] = I.C[5] = S(0);
+    I.C[0] = I.C[2] = I.C[5] = m;
+    I.C[1] = I.C[3] = I.C[4] = S(0);
     for (int k = 0; k < 6; ++k) p[k] = -W[k];
     return;
   }
@@ -56,8 +59,8 @@ template <class S>
   I.B[0] = sum.B[0], I.B[1] = sum.B[1] - h2, I.B[2] = sum.B[2] + h1;
   I.B[3] = sum.B[3] + h2, I.B[4] = sum.B[4], I.B[5] = sum.B[5] - h0;
   I.B[6] = sum.B[6] - h1, I.B[7] = sum.B[7] + h0, I.B[8] = sum.B[8];
-  for (int k = 0; k < 3; ++k) I.C[k] = sum.C[k] + m;
-  for (int k = 3; k < 6; ++k) I.C[k] = sum.C[k];
+  I.C[0] = sum.C[0] + m, I.C[1] = sum.C[1], I.C[2] = sum.C[2] + m;
+  I.C[3] = sum.C[3], I.C[4] = sum.C[4], I.C[5] = sum.C[5] + m;
   for (int k = 0; k < 6; ++k) p[k] = sum_bias[k] - W[k];
 }
 
@@ -176,6 +179,132 @@ bool one_speed_to_parent(const ArticulatedInertiaT<S>& I, const S p[6], const S 
   return true;
 }
 
+#if defined(__SSE2__)
+// The step for a rotation s = (a, 0) on double, two entries per instruction: own_plus_children
+// and one_speed_to_parent in one, with the body's articulated inertia kept in registers. Every
+// entry is formed by the same operations in the same order as there, so the values are the same
+// bits (x − 0 and x − (−h) stand for the scalar form's x and x + h, bit for bit). The pairs follow
+// the storage (kSym, B by rows) so that operands load side by side and each child's stores are
+// read back as the same pieces by its parent. Written by hand because the compiler's code for the
+// scalar form spends more instructions moving the 21 entries through registers and the stack than
+// computing them.
+template <bool first>
+bool one_rotation_to_parent(const SpatialInertia<double>& X, const Vec6<double>& wrench,
+                            bool children, const ArticulatedInertia& sum,
+                            const std::array<double, 6>& sum_bias, const double a[3], double tau,
+                            const double r[3], bool has_parent, ArticulatedInertia* parent,
+                            double* parent_bias, double W[6], double& u_over_d) {
+  using namespace math::two_lane;
+  // The body's articulated inertia I: A as (A00, A01), (A02, A12), A11, A22; B by rows (Bi0, Bi1)
+  // and Bi2; C as A. Its bias p = sum_bias − W_b.
+  const double* Xi = X.I.data();  // column-major
+  const double m = X.m, h0 = X.h[0], h1 = X.h[1], h2 = X.h[2];
+  V2 A01 = pair(Xi[0], Xi[3]), A0212 = load(Xi + 6);
+  double A11 = Xi[4], A22 = Xi[8];
+  V2 B0, B1, B2, C01, C0212;
+  double B02, B12, B22, C11, C22;
+  V2 p01, p34;
+  double p2, p5;
+  const double* w = wrench.data();
+  if (children) {
+    A01 = add(load(sum.A), A01), A0212 = add(load(sum.A + 3), A0212);
+    A11 = sum.A[2] + A11, A22 = sum.A[5] + A22;
+    B0 = sub(load(sum.B), pair(0.0, h2)), B02 = sum.B[2] + h1;
+    B1 = sub(load(sum.B + 3), pair(-h2, 0.0)), B12 = sum.B[5] - h0;
+    B2 = sub(load(sum.B + 6), pair(h1, -h0)), B22 = sum.B[8];
+    C01 = sub(load(sum.C), pair(-m, 0.0)), C11 = sum.C[2] + m;
+    C0212 = load(sum.C + 3), C22 = sum.C[5] + m;
+    p01 = sub(load(sum_bias.data()), load(w)), p2 = sum_bias[2] - w[2];
+    p34 = sub(load(sum_bias.data() + 3), load(w + 3)), p5 = sum_bias[5] - w[5];
+  } else {
+    B0 = pair(0.0, -h2), B02 = h1;
+    B1 = pair(h2, 0.0), B12 = -h0;
+    B2 = pair(-h1, h0), B22 = 0.0;
+    C01 = pair(m, 0.0), C11 = m;
+    C0212 = zero(), C22 = m;
+    p01 = negate(load(w)), p2 = -w[2];
+    p34 = negate(load(w + 3)), p5 = -w[5];
+  }
+  const double a0 = a[0], a1 = a[1], a2 = a[2];
+  const V2 Va0 = splat(a0), Va1 = splat(a1), Va2 = splat(a2);
+  // U = I s = (A a, Bᵀ a) as (U0, U1), (U3, U4) and (U2, U5).
+  const V2 U01 = add(add(mul(A01, Va0), mul(high_low(A01, low(A11)), Va1)), mul(A0212, Va2));
+  const V2 U34 = add(add(mul(B0, Va0), mul(B1, Va1)), mul(B2, Va2));
+  const V2 U25 = add(add(mul(lows(A0212, low(B02)), Va0), mul(high_low(A0212, low(B12)), Va1)),
+                     mul(pair(A22, B22), Va2));
+  const double U0 = lo(U01), U1 = hi(U01), U2 = lo(U25), U3 = lo(U34), U4 = hi(U34), U5 = hi(U25);
+  const double d = a0 * U0 + a1 * U1 + a2 * U2;
+  const double u = tau - (a0 * lo(p01) + a1 * hi(p01) + a2 * p2);
+  if (!(d > 0)) return false;
+  const double dinv = 1.0 / d;
+  u_over_d = u * dinv;
+  const V2 Dinv = splat(dinv);
+  if (!has_parent) {
+    store(W, mul(U01, Dinv));
+    W[2] = U2 * dinv;
+    store(W + 3, mul(U34, Dinv));
+    W[5] = U5 * dinv;
+    return true;
+  }
+  const double r0 = r[0], r1 = r[1], r2 = r[2];
+  // U' = Xᵀ U = (U_top + r × U_bot, U_bot), W = U'/D.
+  const double Up0 = U0 + (r1 * U5 - r2 * U4), Up1 = U1 + (r2 * U3 - r0 * U5),
+               Up2 = U2 + (r0 * U4 - r1 * U3);
+  const V2 Up01 = pair(Up0, Up1);
+  const V2 W01 = mul(Up01, Dinv), W34 = mul(U34, Dinv);
+  const double W2 = Up2 * dinv, W5 = U5 * dinv;
+  store(W, W01);
+  W[2] = W2;
+  store(W + 3, W34);
+  W[5] = W5;
+  // C' = C − U'_bot W_botᵀ.
+  put_pair<first>(parent->C, sub(C01, mul(splat(U3), W34)));
+  put<first>(parent->C[2], C11 - U4 * hi(W34));
+  put_pair<first>(parent->C + 3, sub(C0212, mul(U34, splat(W5))));
+  put<first>(parent->C[5], C22 - U5 * W5);
+  // H = ½ R C (rows in pairs over columns 0 and 1; column 2 alone), K = B + H,
+  // B' = K + H − U'_top W_botᵀ.
+  const double q0 = 0.5 * r0, q1 = 0.5 * r1, q2 = 0.5 * r2;
+  const V2 Q0 = splat(q0), Q1 = splat(q1), Q2 = splat(q2);
+  const V2 C12 = high_low(C01, low(C11));  // (C01, C11)
+  const double C02 = lo(C0212), C12s = hi(C0212);
+  const V2 H0 = sub(mul(Q1, C0212), mul(Q2, C12));
+  const V2 H1 = sub(mul(Q2, C01), mul(Q0, C0212));
+  const V2 H2 = sub(mul(Q0, C12), mul(Q1, C01));
+  const double H02 = q1 * C22 - q2 * C12s, H12 = q2 * C02 - q0 * C22, H22 = q0 * C12s - q1 * C02;
+  const V2 K0 = add(B0, H0), K1 = add(B1, H1), K2 = add(B2, H2);
+  const double K02 = B02 + H02, K12 = B12 + H12, K22 = B22 + H22;
+  put_pair<first>(parent->B, sub(add(K0, H0), mul(splat(Up0), W34)));
+  put<first>(parent->B[2], (K02 + H02) - Up0 * W5);
+  put_pair<first>(parent->B + 3, sub(add(K1, H1), mul(splat(Up1), W34)));
+  put<first>(parent->B[5], (K12 + H12) - Up1 * W5);
+  put_pair<first>(parent->B + 6, sub(add(K2, H2), mul(splat(Up2), W34)));
+  put<first>(parent->B[8], (K22 + H22) - Up2 * W5);
+  // K R by columns (rows 0 and 1 in pairs; row 2 alone), A' = A − (K R + (K R)ᵀ) − U'_top W_topᵀ.
+  const V2 R0 = splat(r0), R1 = splat(r1), R2 = splat(r2);
+  const V2 Kc0 = lows(K0, K1), Kc1 = highs(K0, K1), Kc2 = pair(K02, K12);
+  const V2 KR0 = sub(mul(Kc1, R2), mul(Kc2, R1));  // (KR00, KR10)
+  const V2 KR1 = sub(mul(Kc2, R0), mul(Kc0, R2));  // (KR01, KR11)
+  const V2 KR2 = sub(mul(Kc0, R1), mul(Kc1, R0));  // (KR02, KR12)
+  const double K20 = lo(K2), K21 = hi(K2);
+  const double KR20 = K21 * r2 - K22 * r1, KR21 = K22 * r0 - K20 * r2, KR22 = K20 * r1 - K21 * r0;
+  const double KR11 = hi(KR1);
+  put_pair<first>(parent->A, sub(sub(A01, add(lows(KR0, KR1), KR0)), mul(splat(Up0), W01)));
+  put<first>(parent->A[2], (A11 - (KR11 + KR11)) - Up1 * hi(W01));
+  put_pair<first>(parent->A + 3, sub(sub(A0212, add(KR2, pair(KR20, KR21))), mul(Up01, splat(W2))));
+  put<first>(parent->A[5], (A22 - (KR22 + KR22)) - Up2 * W2);
+  // Xᵀ p + U' u/D.
+  const double p0 = lo(p01), p1 = hi(p01), p3 = lo(p34), p4 = hi(p34);
+  const V2 UD = splat(u_over_d);
+  put_pair<first>(parent_bias,
+                  add(pair(p0 + (r1 * p5 - r2 * p4), p1 + (r2 * p3 - r0 * p5)), mul(Up01, UD)));
+  put<first>(parent_bias[2], (p2 + (r0 * p4 - r1 * p3)) + Up2 * u_over_d);
+  put_pair<first>(parent_bias + 3, add(p34, mul(U34, UD)));
+  put<first>(parent_bias[5], p5 + U5 * u_over_d);
+  return true;
+}
+#endif
+
 // A joint of several speeds (spherical, free, universal, …): U = I S, D = Sᵀ U (factored),
 // u = τ − Sᵀ p, and the child's I − U D⁻¹ Uᵀ, p + U D⁻¹ u in place, to be added to the parent.
 // Leaves U in `columns` and D⁻¹ in Dinv, and u in x. Returns false unless D is positive definite.
@@ -218,6 +347,29 @@ bool articulated_body_accelerations(const Model& m, Workspace<S>& ws) {
   for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
     const Joint& J = m.joints[*it];
     const int n = J.nu, k0 = J.u_offset, C = J.child;
+#if defined(__SSE2__)
+    if constexpr (std::is_same_v<S, double>) {
+      if (n == 1 && m.speed_rotation[k0]) {
+        const bool has_parent = J.parent >= 0, first = ws.articulated_first[*it] != 0;
+        const bool children = ws.articulated_has_children[C] != 0;
+        ArticulatedInertia* parent = has_parent ? &ws.articulated_inertia[J.parent] : nullptr;
+        double* parent_bias = has_parent ? ws.articulated_bias[J.parent].data() : nullptr;
+        const double* r = ws.joint_offset[*it].data();
+        const double* s = ws.partial[k0].data();
+        double* W = ws.articulated_columns[k0].data();
+        const bool ok = first ? one_rotation_to_parent<true>(
+                                    ws.spatial_inertia[C], ws.wrench[C], children,
+                                    ws.articulated_inertia[C], ws.articulated_bias[C], s,
+                                    ws.forcing[k0], r, has_parent, parent, parent_bias, W, x[k0])
+                              : one_rotation_to_parent<false>(
+                                    ws.spatial_inertia[C], ws.wrench[C], children,
+                                    ws.articulated_inertia[C], ws.articulated_bias[C], s,
+                                    ws.forcing[k0], r, has_parent, parent, parent_bias, W, x[k0]);
+        if (!ok) return false;
+        continue;
+      }
+    }
+#endif
     ArticulatedInertiaT<S> IA;
     S pA[6];
     own_plus_children(ws.spatial_inertia[C], ws.wrench[C], ws.articulated_has_children[C] != 0,
@@ -280,7 +432,10 @@ bool articulated_body_accelerations(const Model& m, Workspace<S>& ws) {
     S ud = S(0);
     if (n == 1) {
       const std::array<S, 6>& W = ws.articulated_columns[k0];
-      ud = x[k0] - (W[0] * a0 + W[1] * a1 + W[2] * a2 + W[3] * a3 + W[4] * a4 + W[5] * a5);
+      // Summed as a tree with the translational half of δa_P apart: along a chain of rotations it
+      // is known a joint earlier than the rotational half, so u̇ waits on fewer additions.
+      const S late = W[0] * a0 + W[1] * a1, early = W[2] * a2 + (W[3] * a3 + W[4] * a4 + W[5] * a5);
+      ud = x[k0] - (late + early);
       x[k0] = ud;
     }
     if (J.parent >= 0) {  // δa_P at Q_C

@@ -184,6 +184,56 @@ TEST(ArticulatedBody, TangentsAsTheMassMatrixSolve) {
   }
 }
 
+// On double a rotation's step is written two entries at a time (one_rotation_to_parent); the dual
+// scalars run the templated step it stands in for. Each entry is formed by the same operations in
+// the same order, so from the same inputs (the stages before it, copied from double) the recursion
+// gives u̇ on double equal to the dual values bit for bit: on chains (about coordinate axes and
+// not) and on trees (several children per parent, bodies without children, prismatic joints left
+// to the templated step).
+TEST(ArticulatedBody, PairedStepGivesTheTemplatedStepsBits) {
+  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+           {"chain_3d_8", test_scenes::chain_scene(8)},
+           {"chain_tipped_8", test_scenes::chain_scene(8, 0.1)},
+           {"cart_double_pole_3d", kCartPoles},
+           {"branched_tree", kBranched}}) {
+    SCOPED_TRACE(name);
+    Model m = model_from_text(text);
+    m.force_general_3d = true;
+    Workspace<double> paired(m);
+    Workspace<Dual> templated(m);
+    dynamics::set_articulated_body(m, paired, true);
+    dynamics::set_articulated_body(m, templated, true);
+    ASSERT_TRUE(dynamics::uses_articulated_body(m, paired));
+    ASSERT_TRUE(dynamics::uses_articulated_body(m, templated));
+    const std::vector<double> p = m.nominal_parameters();
+    set_parameters(m, paired, p.data());
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> uni(-1.5, 1.5);
+    for (int trial = 0; trial < 5; ++trial) {
+      std::vector<double> y(m.nstate()), f(m.nstate());
+      for (double& v : y) v = uni(rng);
+      ASSERT_TRUE(evaluate_rhs(m, paired, 0.3, y.data(), f.data()));
+      // The recursion's inputs, with tangents: the values must not depend on them.
+      auto dual = [&](double v) { return Dual(v, uni(rng)); };
+      for (int b = 0; b < m.nbody(); ++b) {
+        templated.spatial_inertia[b].m = dual(paired.spatial_inertia[b].m);
+        for (int k = 0; k < 3; ++k) templated.spatial_inertia[b].h[k] = dual(paired.spatial_inertia[b].h[k]);
+        for (int k = 0; k < 9; ++k) templated.spatial_inertia[b].I.data()[k] = dual(paired.spatial_inertia[b].I.data()[k]);
+        for (int k = 0; k < 6; ++k) templated.wrench[b][k] = dual(paired.wrench[b][k]);
+      }
+      for (std::size_t j = 0; j < m.joints.size(); ++j)
+        for (int k = 0; k < 3; ++k) templated.joint_offset[j][k] = dual(paired.joint_offset[j][k]);
+      for (int k = 0; k < m.nu; ++k) {
+        for (int i = 0; i < 6; ++i) templated.partial[k][i] = dual(paired.partial[k][i]);
+        templated.forcing[k] = dual(paired.forcing[k]);
+      }
+      ASSERT_TRUE(dynamics::articulated_body_accelerations(m, templated));
+      for (int k = 0; k < m.nu; ++k)
+        EXPECT_EQ(f[m.nq + k], templated.udot[k].v) << m.state_names[m.nq + k] << " trial " << trial;
+    }
+  }
+}
+
 TEST(ArticulatedBody, PhysicalPendulumClosedForm) {
   // A uniform rod hinged at its end: θ̈ = −(3g / 2L) sin θ, by the recursion on the 3-D path.
   const double L = 0.9, g = 9.81;  // and m = 1.3, which θ̈ does not depend on
