@@ -33,7 +33,8 @@ void rotate_body_inertia(Workspace<S>& ws, int C, const Mat3<S>& R_C) {
   if (!std::is_same_v<S, double> && ws.inertia_constant[static_cast<std::size_t>(C)])
     math::rotate_constant_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
   else if (ws.inertia_diagonal[static_cast<std::size_t>(C)])
-    math::rotate_diagonal_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
+    math::rotate_diagonal_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C],
+                                     ws.inertia_h_axis[static_cast<std::size_t>(C)]);
   else
     rotate_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
 }
@@ -56,7 +57,10 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
       math::rotate_about_coordinate_axis<S>(R_P, i, cos(qj[0]), sin(qj[0]), R_C);
       if (P >= 0) {
         Vec3<S>& r = ws.joint_offset[ji];
-        r.noalias() = R_P * ws.joint_lever[ji];
+        if (const int k = ws.joint_lever_axis[ji]; k >= 0)
+          r = R_P.col(k) * ws.joint_lever[ji][k];
+        else
+          r.noalias() = R_P * ws.joint_lever[ji];
         ws.tree_position[C] = ws.tree_position[P] + r;
       } else {
         ws.tree_anchor[ji] = ws.joint_lever[ji];

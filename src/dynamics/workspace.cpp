@@ -31,6 +31,7 @@ Workspace<S>::Workspace(const Model& m)
       inertia_local(m.nbody()),
       inertia_constant(static_cast<std::size_t>(m.nbody()), 1),
       inertia_diagonal(static_cast<std::size_t>(m.nbody()), 0),
+      inertia_h_axis(static_cast<std::size_t>(m.nbody()), -1),
       joint_axis(m.joints.size(), Vec3<S>::Zero()),
       joint_axis2(m.joints.size(), Vec3<S>::Zero()),
       plane_e1(m.joints.size(), Vec3<S>::Zero()),
@@ -40,6 +41,7 @@ Workspace<S>::Workspace(const Model& m)
       parent_point(m.joints.size()),
       child_point(m.joints.size()),
       joint_lever(m.joints.size()),
+      joint_lever_axis(m.joints.size(), -1),
       gravity(Vec3<S>::Zero()),
       identity(Mat3<S>::Identity()),
       R(m.nbody()),
@@ -203,15 +205,24 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
       ws.plane_e2[j] = n.cross(ws.plane_e1[j]);
     }
   }
+  auto zero = [](const S& x) { return value_of(x) == 0 && !math::has_tangent(x); };
+  // R v is then column k of R times v_k (the other products add exact zeros).
+  auto along_axis = [&](const Vec3<S>& v) {
+    for (int k = 0; k < 3; ++k)
+      if (zero(v[(k + 1) % 3]) && zero(v[(k + 2) % 3])) return k;
+    return -1;
+  };
   for (std::size_t j = 0; j < m.joints.size(); ++j) {
     const Joint& J = m.joints[j];
     ws.joint_lever[j] = J.parent >= 0 ? Vec3<S>(ws.parent_point[j] - ws.reference_point[J.parent]) : ws.parent_point[j];
+    ws.joint_lever_axis[j] = along_axis(ws.joint_lever[j]);
   }
   for (int b = 0; b < m.nbody(); ++b) {
     const SpatialInertia<S>& I = ws.inertia_local[b] = math::body_inertia_at<S>(ws.mass[b], ws.inertia_body[b], ws.reference_point[b]);
-    ws.inertia_constant[static_cast<std::size_t>(b)] = !math::has_tangent(I.m) && !has_tangent(I.h) && !has_tangent(I.I);
-    auto zero = [](const S& x) { return value_of(x) == 0 && !math::has_tangent(x); };
+    ws.inertia_constant[static_cast<std::size_t>(b)] =
+        !math::has_tangent(I.m) && !has_tangent(I.h) && !has_tangent(I.I);
     ws.inertia_diagonal[static_cast<std::size_t>(b)] = zero(I.I(0, 1)) && zero(I.I(0, 2)) && zero(I.I(1, 2));
+    ws.inertia_h_axis[static_cast<std::size_t>(b)] = along_axis(I.h);
   }
   ws.gravity = vec3(ws, m.gravity);
 }

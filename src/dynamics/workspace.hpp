@@ -89,6 +89,8 @@ struct Workspace {
   std::vector<char> inertia_diagonal;  // nb: inertia_local's I is diagonal, its off-diagonal
                                        //     entries exact zeros without tangents
                                        //     (rotate_diagonal_inertia applies)
+  std::vector<int> inertia_h_axis;     // nb: k when inertia_local's h lies along e_k (its other
+                                       //     components exact zeros without tangents), −1 otherwise
   std::vector<Vec3<S>> joint_axis, joint_axis2, plane_e1, plane_e2;  // nj, unit (0 if degenerate)
   std::vector<int> joint_axis_index;  // nj: i when joint_axis is exactly e_i (a rotation about it
                                       //     moves two columns), −1 otherwise or if it has a tangent
@@ -96,6 +98,7 @@ struct Workspace {
   std::vector<Vec3<S>> parent_point, child_point;                    // nj
   std::vector<Vec3<S>> joint_lever;  // nj: Q_P to the joint's parent point at q = 0, parent frame
                                      //     (root joints: the parent point, world)
+  std::vector<int> joint_lever_axis;  // nj: k when joint_lever lies along e_k (as inertia_h_axis)
   Vec3<S> gravity;
   Mat3<S> identity;                 // the ground's rotation
 

@@ -255,11 +255,16 @@ void rotate_inertia(const SpatialInertia<S>& X, const Mat3<S>& R, SpatialInertia
 // rotate_inertia for an X whose I is diagonal (a body whose mass center lies on a principal axis
 // through its reference point, as a link's does): I_w = Σ_k I_kk R_k R_kᵀ, R_k column k of R,
 // 27 multiplications instead of 45 and the same values bit for bit (rotate_inertia's products by
-// the zero entries add exact zeros).
+// the zero entries add exact zeros). With h_axis = k (X.h along e_k, its other components exact
+// zeros), R X.h is column k of R times h_k: the same values again.
 template <class S>
-void rotate_diagonal_inertia(const SpatialInertia<S>& X, const Mat3<S>& R, SpatialInertia<S>& out) {
+void rotate_diagonal_inertia(const SpatialInertia<S>& X, const Mat3<S>& R, SpatialInertia<S>& out,
+                             int h_axis = -1) {
   out.m = X.m;
-  out.h.noalias() = R * X.h;
+  if (h_axis >= 0)
+    out.h = R.col(h_axis) * X.h[h_axis];
+  else
+    out.h.noalias() = R * X.h;
   const S d[3] = {X.I(0, 0), X.I(1, 1), X.I(2, 2)};
   S T[3][3];
   for (int i = 0; i < 3; ++i)
