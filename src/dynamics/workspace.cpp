@@ -45,6 +45,8 @@ Workspace<S>::Workspace(const Model& m)
       gravity(Vec3<S>::Zero()),
       identity(Mat3<S>::Identity()),
       R(m.nbody()),
+      angle_cos(static_cast<std::size_t>(m.nq)),
+      angle_sin(static_cast<std::size_t>(m.nq)),
       joint_offset(m.joints.size(), Vec3<S>::Zero()),
       tree_anchor(m.joints.size(), Vec3<S>::Zero()),
       tree_position(m.nbody()),
@@ -85,6 +87,7 @@ Workspace<S>::Workspace(const Model& m)
       bias_planar(m.nbody()),
       wrench_planar(m.nbody()),
       prefix(7) {
+  coordinate_angles.reserve(m.joints.size() + 1);  // set_parameters fills it without allocating
   {
     std::vector<unsigned char> used(static_cast<std::size_t>(m.nu), 0);
     for (int l : m.speed_order) {
@@ -217,6 +220,11 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
     ws.joint_lever[j] = J.parent >= 0 ? Vec3<S>(ws.parent_point[j] - ws.reference_point[J.parent]) : ws.parent_point[j];
     ws.joint_lever_axis[j] = along_axis(ws.joint_lever[j]);
   }
+  ws.coordinate_angles.clear();
+  for (std::size_t j = 0; j < m.joints.size(); ++j)
+    if (m.joints[j].type == JointType::revolute && ws.joint_axis_index[j] >= 0)
+      ws.coordinate_angles.push_back(m.joints[j].q_offset);
+  if (ws.coordinate_angles.size() % 2) ws.coordinate_angles.push_back(ws.coordinate_angles.back());
   for (int b = 0; b < m.nbody(); ++b) {
     const SpatialInertia<S>& I = ws.inertia_local[b] = math::body_inertia_at<S>(ws.mass[b], ws.inertia_body[b], ws.reference_point[b]);
     ws.inertia_constant[static_cast<std::size_t>(b)] =

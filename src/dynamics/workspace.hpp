@@ -99,11 +99,14 @@ struct Workspace {
   std::vector<Vec3<S>> joint_lever;  // nj: Q_P to the joint's parent point at q = 0, parent frame
                                      //     (root joints: the parent point, world)
   std::vector<int> joint_lever_axis;  // nj: k when joint_lever lies along e_k (as inertia_h_axis)
+  std::vector<int> coordinate_angles;  // q offsets of the revolute joints about a coordinate axis
+                                       //     (joint_axis_index ≥ 0), in pairs (the last repeated)
   Vec3<S> gravity;
   Mat3<S> identity;                 // the ground's rotation
 
   // Position stage (q).
   std::vector<Mat3<S>> R;           // nb: body → world rotation
+  std::vector<double> angle_cos, angle_sin;  // nq: cos, sin of the coordinate_angles' values
   std::vector<Vec3<S>> joint_offset;  // nj: r_J = Q_child − Q_parent, world components (roots: 0)
   std::vector<Vec3<S>> tree_anchor;   // nj, root joints only: world position of the child's Q
   std::vector<Vec3<S>> tree_position;  // nb: Q_b − its tree's anchor, world components

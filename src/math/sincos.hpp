@@ -1,0 +1,109 @@
+// sin and cos of two angles at once (SSE2, the x86-64 baseline), for the joint angles of the
+// position stage. Written by hand because glibc's sincos is a call per angle of some hundred
+// instructions with branches, which the position stage of a chain of revolute joints spent a
+// tenth of the right-hand side in; SLEEF's 1-ulp SSE2 version is no faster without FMA and its
+// 3.5-ulp one is less accurate than this.
+//
+// The method is the classical one (Cody and Waite's reduction, the minimax polynomials of
+// fdlibm's kernels): x = n π/2 + y with y carried as a double-double (y0, y1), π/2 split into
+// three 33-bit parts and their tails so that n times a part is exact for |n| < 2^20; then
+// sin y and cos y by polynomials on |y| ≤ π/4 and the quadrant n mod 4. Error below one unit in
+// the last place (tests/unit/test_sincos.cpp against long double). Angles beyond ±2^19 π/2 and
+// non-finite ones go to the C library (same results as std::sin, std::cos there).
+#pragma once
+
+#include <cmath>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace kanesens::math {
+
+namespace sincos_detail {
+inline constexpr double kInvPio2 = 6.36619772367581382433e-01;
+inline constexpr double kPio2_1 = 1.57079632673412561417e+00;   // first 33 bits of π/2
+inline constexpr double kPio2_2 = 6.07710050630396597660e-11;   // second 33 bits
+inline constexpr double kPio2_3 = 2.02226624871116645580e-21;   // third 33 bits
+inline constexpr double kPio2_3t = 8.47842766036889956997e-32;  // π/2 − the three parts
+// Beyond this |x| the reduction's products are no longer exact.
+inline constexpr double kMaxReduced = 823549.6554103942;  // 2^19 π/2
+// sin y = y + y³ (S1 + y² S2 + …), |y| ≤ π/4 (fdlibm k_sin.c's minimax coefficients).
+inline constexpr double S1 = -1.66666666666666324348e-01, S2 = 8.33333333332248946124e-03,
+                        S3 = -1.98412698298579493134e-04, S4 = 2.75573137070700676789e-06,
+                        S5 = -2.50507602534068634195e-08, S6 = 1.58969099521155010221e-10;
+// cos y = 1 − y²/2 + y⁴ (C1 + y² C2 + …) (fdlibm k_cos.c's).
+inline constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-03,
+                        C3 = 2.48015872894767294178e-05, C4 = -2.75573143513906633035e-07,
+                        C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
+}  // namespace sincos_detail
+
+#if defined(__SSE2__)
+// s[i] = sin x[i], c[i] = cos x[i] for i = 0, 1.
+inline void sincos2(const double x[2], double s[2], double c[2]) {
+  using namespace sincos_detail;
+  __m128d X = _mm_loadu_pd(x);
+  const __m128d absX = _mm_andnot_pd(_mm_set1_pd(-0.0), X);
+  // Lanes out of range (or NaN) are reduced as 0 here and taken from the C library below, so that
+  // each angle's result does not depend on the angle it is paired with.
+  const __m128d in_range = _mm_cmple_pd(absX, _mm_set1_pd(kMaxReduced));
+  const int lanes_in_range = _mm_movemask_pd(in_range);
+  X = _mm_and_pd(X, in_range);
+  auto set = [](double v) { return _mm_set1_pd(v); };
+  // n = nearest integer to x·2/π (the rounding mode's, nearest-even), exactly representable.
+  const __m128i N = _mm_cvtpd_epi32(_mm_mul_pd(X, set(kInvPio2)));
+  const __m128d n = _mm_cvtepi32_pd(N);
+  // y = x − n π/2 as y0 + y1: the first part's product and difference are exact; the second
+  // and third parts' products are exact and each difference's rounding error (e, by Fast2Sum) is
+  // kept with the last tail in w (fdlibm's e_rem_pio2, with every step taken).
+  __m128d r = _mm_sub_pd(X, _mm_mul_pd(n, set(kPio2_1)));
+  __m128d t = r, p = _mm_mul_pd(n, set(kPio2_2));
+  r = _mm_sub_pd(t, p);
+  __m128d e = _mm_sub_pd(_mm_sub_pd(t, r), p);
+  t = r, p = _mm_mul_pd(n, set(kPio2_3));
+  r = _mm_sub_pd(t, p);
+  e = _mm_add_pd(_mm_sub_pd(_mm_sub_pd(t, r), p), e);
+  const __m128d w = _mm_sub_pd(_mm_mul_pd(n, set(kPio2_3t)), e);
+  const __m128d y0 = _mm_sub_pd(r, w);
+  const __m128d y1 = _mm_sub_pd(_mm_sub_pd(r, y0), w);
+  // sin(y0 + y1) ≈ y0 − ((z (y1/2 − v P) − y1) − v S1), z = y0², v = z y0, P = S2 + z (S3 + …).
+  const __m128d z = _mm_mul_pd(y0, y0);
+  const __m128d v = _mm_mul_pd(z, y0);
+  const __m128d P = _mm_add_pd(
+      set(S2),
+      _mm_mul_pd(z, _mm_add_pd(set(S3), _mm_mul_pd(z, _mm_add_pd(set(S4), _mm_mul_pd(z, _mm_add_pd(set(S5), _mm_mul_pd(z, set(S6)))))))));
+  const __m128d sin_y = _mm_sub_pd(
+      y0, _mm_sub_pd(_mm_sub_pd(_mm_mul_pd(z, _mm_sub_pd(_mm_mul_pd(set(0.5), y1), _mm_mul_pd(v, P))), y1),
+                     _mm_mul_pd(v, set(S1))));
+  // cos(y0 + y1) ≈ h + (((1 − h) − z/2) + (z Q − y0 y1)), h = 1 − z/2,
+  // Q = z (C1 + z (C2 + z C3)) + z⁴ (C4 + z (C5 + z C6)).
+  const __m128d z2 = _mm_mul_pd(z, z);
+  const __m128d Q = _mm_add_pd(
+      _mm_mul_pd(z, _mm_add_pd(set(C1), _mm_mul_pd(z, _mm_add_pd(set(C2), _mm_mul_pd(z, set(C3)))))),
+      _mm_mul_pd(_mm_mul_pd(z2, z2), _mm_add_pd(set(C4), _mm_mul_pd(z, _mm_add_pd(set(C5), _mm_mul_pd(z, set(C6)))))));
+  const __m128d hz = _mm_mul_pd(set(0.5), z);
+  const __m128d h = _mm_sub_pd(set(1.0), hz);
+  const __m128d cos_y = _mm_add_pd(
+      h, _mm_add_pd(_mm_sub_pd(_mm_sub_pd(set(1.0), h), hz), _mm_sub_pd(_mm_mul_pd(z, Q), _mm_mul_pd(y0, y1))));
+  // Quadrant n mod 4: odd n swaps sin and cos; sin is negated for n ≡ 2, 3, cos for n ≡ 1, 2.
+  const __m128i n64 = _mm_shuffle_epi32(N, _MM_SHUFFLE(1, 1, 0, 0));  // each lane's n in both halves
+  const __m128d odd = _mm_castsi128_pd(_mm_cmpeq_epi32(_mm_and_si128(n64, _mm_set1_epi32(1)), _mm_set1_epi32(1)));
+  const __m128d S = _mm_or_pd(_mm_and_pd(odd, cos_y), _mm_andnot_pd(odd, sin_y));
+  const __m128d C = _mm_or_pd(_mm_and_pd(odd, sin_y), _mm_andnot_pd(odd, cos_y));
+  const __m128i bit1 = _mm_slli_epi64(_mm_and_si128(n64, _mm_set1_epi32(2)), 62);            // n & 2 → sign
+  const __m128i bit0 = _mm_slli_epi64(_mm_and_si128(n64, _mm_set1_epi32(1)), 63);            // n & 1
+  const __m128d sin_sign = _mm_castsi128_pd(bit1);
+  const __m128d cos_sign = _mm_castsi128_pd(_mm_xor_si128(bit1, bit0));
+  _mm_storeu_pd(s, _mm_xor_pd(S, sin_sign));
+  _mm_storeu_pd(c, _mm_xor_pd(C, cos_sign));
+  if (lanes_in_range != 3) [[unlikely]]
+    for (int i = 0; i < 2; ++i)
+      if (!(lanes_in_range >> i & 1)) s[i] = std::sin(x[i]), c[i] = std::cos(x[i]);
+}
+#else
+inline void sincos2(const double x[2], double s[2], double c[2]) {
+  for (int i = 0; i < 2; ++i) s[i] = std::sin(x[i]), c[i] = std::cos(x[i]);
+}
+#endif
+
+}  // namespace kanesens::math
