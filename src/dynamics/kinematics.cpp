@@ -5,8 +5,8 @@
 #include "math/dual.hpp"
 #include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
-#include "math/sincos.hpp"
 #include "dynamics/equations.hpp"
+#include "dynamics/joint_angles.hpp"
 #include "dynamics/planar_stages.hpp"
 
 namespace kanesens::dynamics {
@@ -40,38 +40,12 @@ void rotate_body_inertia(Workspace<S>& ws, int C, const Mat3<S>& R_C) {
     rotate_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
 }
 
-// cos q and sin q on scalar S from c = cos and s = sin of q's value: the tangents as std::cos and
-// std::sin of S form them (the chain rule at each level of a nested dual).
-inline void angle_functions(double, double c, double s, double& cos_q, double& sin_q) {
-  cos_q = c, sin_q = s;
-}
-template <class T>
-void angle_functions(const math::DualT<T>& q, double c, double s, math::DualT<T>& cos_q, math::DualT<T>& sin_q) {
-  T cv, sv;
-  angle_functions(q.v, c, s, cv, sv);
-  cos_q = {cv, -sv * q.d};
-  sin_q = {sv, cv * q.d};
-}
-template <int N>
-void angle_functions(const math::MultiDual<N>& q, double c, double s, math::MultiDual<N>& cos_q,
-                     math::MultiDual<N>& sin_q) {
-  cos_q = math::multi_dual_detail::chain(c, -s, q);
-  sin_q = math::multi_dual_detail::chain(s, c, q);
-}
 }  // namespace
 
 template <class S>
 void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
   if (m.evaluate_planar()) return detail::compute_position_planar(m, ws, q);
-  // The joint angles' cos and sin two at a time, on values, the same on every scalar.
-  for (std::size_t k = 0; k < ws.coordinate_angles.size(); k += 2) {
-    const int a = ws.coordinate_angles[k], b = ws.coordinate_angles[k + 1];
-    const double x[2] = {math::value_of(q[a]), math::value_of(q[b])};
-    double s[2], c[2];
-    math::sincos2(x, s, c);
-    ws.angle_cos[a] = c[0], ws.angle_sin[a] = s[0];
-    ws.angle_cos[b] = c[1], ws.angle_sin[b] = s[1];
-  }
+  detail::compute_joint_angles(ws, q);
   for (int ji : m.joint_order) {
     const Joint& J = m.joints[ji];
     const int P = J.parent, C = J.child;
@@ -83,7 +57,7 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
       // The common case in straight-line code: a revolute about a coordinate axis e_i of the
       // parent (and of the child: column i is shared) with no travel.
       S cos_q, sin_q;
-      angle_functions(qj[0], ws.angle_cos[J.q_offset], ws.angle_sin[J.q_offset], cos_q, sin_q);
+      detail::joint_angle(ws, q, J.q_offset, cos_q, sin_q);
       math::rotate_about_coordinate_axis<S>(R_P, i, cos_q, sin_q, R_C);
       if (P >= 0) {
         Vec3<S>& r = ws.joint_offset[ji];

@@ -11,6 +11,7 @@
 #include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
 #include "dynamics/force_elements.hpp"
+#include "dynamics/joint_angles.hpp"
 #include "dynamics/planar_stages.hpp"
 
 namespace kanesens::dynamics::detail {
@@ -22,7 +23,7 @@ using math::motion_to_child_planar;
 
 template <class S>
 void compute_position_planar(const Model& m, Workspace<S>& ws, const S* q) {
-  using std::cos, std::sin;
+  compute_joint_angles(ws, q);
   for (int ji : m.joint_order) {
     const Joint& J = m.joints[ji];
     const int P = J.parent, C = J.child;
@@ -38,14 +39,14 @@ void compute_position_planar(const Model& m, Workspace<S>& ws, const S* q) {
     Vec3<S> r = ws.joint_lever[ji];        // Q_C − Q_P in the parent frame
     switch (J.type) {
       case JointType::revolute:
-        cq = cos(qj[0]);
-        sq = a[2] * sin(qj[0]);
+        joint_angle(ws, q, J.q_offset, cq, sq);
+        sq = a[2] * sq;
         break;
       case JointType::prismatic: r += qj[0] * a; break;
       case JointType::planar:
         r += qj[0] * ws.plane_e1[ji] + qj[1] * ws.plane_e2[ji];
-        cq = cos(qj[2]);
-        sq = a[2] * sin(qj[2]);
+        joint_angle(ws, q, J.q_offset + 2, cq, sq);
+        sq = a[2] * sq;
         break;
       default: break;  // weld (Model::planar admits nothing else)
     }

@@ -220,10 +220,18 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
     ws.joint_lever[j] = J.parent >= 0 ? Vec3<S>(ws.parent_point[j] - ws.reference_point[J.parent]) : ws.parent_point[j];
     ws.joint_lever_axis[j] = along_axis(ws.joint_lever[j]);
   }
+  // The angles the position stage rotates by with their cos and sin: on the planar path every
+  // revolute joint's and a planar joint's rotation, on the 3-D path those about a coordinate axis
+  // (a planar scene evaluated in 3-D, Model::force_general_3d, has them all).
   ws.coordinate_angles.clear();
-  for (std::size_t j = 0; j < m.joints.size(); ++j)
-    if (m.joints[j].type == JointType::revolute && ws.joint_axis_index[j] >= 0)
-      ws.coordinate_angles.push_back(m.joints[j].q_offset);
+  const bool planar = m.planar;
+  for (std::size_t j = 0; j < m.joints.size(); ++j) {
+    const Joint& J = m.joints[j];
+    if (J.type == JointType::revolute && (planar || ws.joint_axis_index[j] >= 0))
+      ws.coordinate_angles.push_back(J.q_offset);
+    else if (J.type == JointType::planar && planar)
+      ws.coordinate_angles.push_back(J.q_offset + 2);
+  }
   if (ws.coordinate_angles.size() % 2) ws.coordinate_angles.push_back(ws.coordinate_angles.back());
   for (int b = 0; b < m.nbody(); ++b) {
     const SpatialInertia<S>& I = ws.inertia_local[b] = math::body_inertia_at<S>(ws.mass[b], ws.inertia_body[b], ws.reference_point[b]);

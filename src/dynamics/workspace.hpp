@@ -99,8 +99,9 @@ struct Workspace {
   std::vector<Vec3<S>> joint_lever;  // nj: Q_P to the joint's parent point at q = 0, parent frame
                                      //     (root joints: the parent point, world)
   std::vector<int> joint_lever_axis;  // nj: k when joint_lever lies along e_k (as inertia_h_axis)
-  std::vector<int> coordinate_angles;  // q offsets of the revolute joints about a coordinate axis
-                                       //     (joint_axis_index ≥ 0), in pairs (the last repeated)
+  std::vector<int> coordinate_angles;  // q offsets of the joint angles whose cos and sin the
+                                       //     position stage takes (dynamics/joint_angles.hpp),
+                                       //     in pairs (the last repeated)
   Vec3<S> gravity;
   Mat3<S> identity;                 // the ground's rotation
 
