@@ -39,7 +39,6 @@ void rotate_body_inertia(Workspace<S>& ws, int C, const Mat3<S>& R_C) {
   else
     rotate_inertia<S>(ws.inertia_local[C], R_C, ws.spatial_inertia[C]);
 }
-
 }  // namespace
 
 template <class S>

@@ -224,12 +224,11 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
   // revolute joint's and a planar joint's rotation, on the 3-D path those about a coordinate axis
   // (a planar scene evaluated in 3-D, Model::force_general_3d, has them all).
   ws.coordinate_angles.clear();
-  const bool planar = m.planar;
   for (std::size_t j = 0; j < m.joints.size(); ++j) {
     const Joint& J = m.joints[j];
-    if (J.type == JointType::revolute && (planar || ws.joint_axis_index[j] >= 0))
+    if (J.type == JointType::revolute && (m.planar || ws.joint_axis_index[j] >= 0))
       ws.coordinate_angles.push_back(J.q_offset);
-    else if (J.type == JointType::planar && planar)
+    else if (J.type == JointType::planar && m.planar)
       ws.coordinate_angles.push_back(J.q_offset + 2);
   }
   if (ws.coordinate_angles.size() % 2) ws.coordinate_angles.push_back(ws.coordinate_angles.back());
