@@ -4,8 +4,10 @@
 #pragma once
 #include <array>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
@@ -107,51 +109,61 @@ template <class S>
 S Expression::evaluate(const Inputs<S>& in) const {
   using std::abs, std::atan2, std::cos, std::exp, std::log, std::sin, std::sqrt, std::tan,
       std::asin, std::acos, std::atan, std::pow;
-  std::array<S, kMaxStack> st;
+  // Slots are constructed when pushed: a default-constructed dual number zeroes its value and
+  // tangents, which for the nested multi-tangent types costs more than the expression itself.
+  union Slot {
+    Slot() {}  // NOLINT: deliberately leaves x unconstructed
+    S x;
+  };
+  static_assert(std::is_trivially_destructible_v<S>);
+  if (code_.empty()) return S(0);
+  std::array<Slot, kMaxStack> slots;
   int sp = 0;
+  auto push = [&](const S& x) { std::construct_at(&slots[sp++].x, x); };
+  auto st = [&](int i) -> S& { return slots[i].x; };
   for (const Instruction& ins : code_) {
     switch (ins.op) {
-      case Op::constant: st[sp++] = S(ins.value); break;
+      case Op::constant: push(S(ins.value)); break;
       case Op::variable:
         switch (ins.kind) {
-          case VarKind::parameter: st[sp++] = in.parameters[ins.index]; break;
-          case VarKind::time: st[sp++] = in.time; break;
-          case VarKind::coordinate: st[sp++] = in.coordinates[ins.index]; break;
-          case VarKind::speed: st[sp++] = in.speeds[ins.index]; break;
-          case VarKind::quantity: st[sp++] = in.quantities[ins.index]; break;
+          case VarKind::parameter: push(in.parameters[ins.index]); break;
+          case VarKind::time: push(in.time); break;
+          case VarKind::coordinate: push(in.coordinates[ins.index]); break;
+          case VarKind::speed: push(in.speeds[ins.index]); break;
+          case VarKind::quantity: push(in.quantities[ins.index]); break;
         }
         break;
-      case Op::add: --sp; st[sp - 1] = st[sp - 1] + st[sp]; break;
-      case Op::sub: --sp; st[sp - 1] = st[sp - 1] - st[sp]; break;
-      case Op::mul: --sp; st[sp - 1] = st[sp - 1] * st[sp]; break;
-      case Op::div: --sp; st[sp - 1] = st[sp - 1] / st[sp]; break;
-      case Op::pow: --sp; st[sp - 1] = pow(st[sp - 1], st[sp]); break;
-      case Op::atan2: --sp; st[sp - 1] = atan2(st[sp - 1], st[sp]); break;
-      case Op::min: --sp; st[sp - 1] = st[sp] < st[sp - 1] ? st[sp] : st[sp - 1]; break;
-      case Op::max: --sp; st[sp - 1] = st[sp - 1] < st[sp] ? st[sp] : st[sp - 1]; break;
-      case Op::neg: st[sp - 1] = -st[sp - 1]; break;
+      case Op::add: --sp; st(sp - 1) = st(sp - 1) + st(sp); break;
+      case Op::sub: --sp; st(sp - 1) = st(sp - 1) - st(sp); break;
+      case Op::mul: --sp; st(sp - 1) = st(sp - 1) * st(sp); break;
+      case Op::div: --sp; st(sp - 1) = st(sp - 1) / st(sp); break;
+      case Op::pow: --sp; st(sp - 1) = pow(st(sp - 1), st(sp)); break;
+      case Op::atan2: --sp; st(sp - 1) = atan2(st(sp - 1), st(sp)); break;
+      case Op::min: --sp; st(sp - 1) = st(sp) < st(sp - 1) ? st(sp) : st(sp - 1); break;
+      case Op::max: --sp; st(sp - 1) = st(sp - 1) < st(sp) ? st(sp) : st(sp - 1); break;
+      case Op::neg: st(sp - 1) = -st(sp - 1); break;
       case Op::powi: {
         // Integer powers by repeated multiplication: exact for negative bases and for Dual.
-        const S base = st[sp - 1];
+        const S base = st(sp - 1);
         int n = ins.index < 0 ? -ins.index : ins.index;
         S r = S(1);
         for (int i = 0; i < n; ++i) r = r * base;
-        st[sp - 1] = ins.index < 0 ? S(1) / r : r;
+        st(sp - 1) = ins.index < 0 ? S(1) / r : r;
         break;
       }
-      case Op::sin: st[sp - 1] = sin(st[sp - 1]); break;
-      case Op::cos: st[sp - 1] = cos(st[sp - 1]); break;
-      case Op::tan: st[sp - 1] = tan(st[sp - 1]); break;
-      case Op::asin: st[sp - 1] = asin(st[sp - 1]); break;
-      case Op::acos: st[sp - 1] = acos(st[sp - 1]); break;
-      case Op::atan: st[sp - 1] = atan(st[sp - 1]); break;
-      case Op::exp: st[sp - 1] = exp(st[sp - 1]); break;
-      case Op::log: st[sp - 1] = log(st[sp - 1]); break;
-      case Op::sqrt: st[sp - 1] = sqrt(st[sp - 1]); break;
-      case Op::abs: st[sp - 1] = abs(st[sp - 1]); break;
+      case Op::sin: st(sp - 1) = sin(st(sp - 1)); break;
+      case Op::cos: st(sp - 1) = cos(st(sp - 1)); break;
+      case Op::tan: st(sp - 1) = tan(st(sp - 1)); break;
+      case Op::asin: st(sp - 1) = asin(st(sp - 1)); break;
+      case Op::acos: st(sp - 1) = acos(st(sp - 1)); break;
+      case Op::atan: st(sp - 1) = atan(st(sp - 1)); break;
+      case Op::exp: st(sp - 1) = exp(st(sp - 1)); break;
+      case Op::log: st(sp - 1) = log(st(sp - 1)); break;
+      case Op::sqrt: st(sp - 1) = sqrt(st(sp - 1)); break;
+      case Op::abs: st(sp - 1) = abs(st(sp - 1)); break;
     }
   }
-  return st[0];
+  return st(0);
 }
 
 }  // namespace kanesens::model::expr
