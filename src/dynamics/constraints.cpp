@@ -60,25 +60,30 @@ void for_each_point_partial(const Model& m, const Workspace<S>& ws, int b, Vec3<
 }
 
 // g, the velocity form and the bias of a general position constraint g(q, t) = 0 on scalar S.
-// The dual copies of q and the parameters live in the workspace (nq, np entries: any size,
-// no allocation here).
+// The dual copies of q live in the workspace (nq entries: any size, no allocation here), those of
+// the parameters too (set_parameters fills them).
 template <class S>
 void general_position(const Model& m, Workspace<S>& ws, const Constraint& c, int row, const S* q) {
-  const int nq = m.nq, np = m.nparam();
-  auto& x1 = ws.general_q1;
-  auto& p1 = ws.general_p1;
-  for (int i = 0; i < np; ++i) p1[i] = DualT<S>(ws.parameters[i]);
-  expr::Inputs<DualT<S>> in1;
-  in1.parameters = p1.data();
-  // Velocity residual: dg/dt along (q̇, 1).
-  for (int i = 0; i < nq; ++i) x1[i] = DualT<S>(q[i], ws.qdot[i]);
-  in1.coordinates = x1.data();
-  in1.time = DualT<S>(ws.time, S(1));
-  const DualT<S> g1 = c.position.evaluate(in1);
-  ws.position_residual[row] = g1.v;
-  ws.velocity_residual[row] = g1.d;
+  const int nq = m.nq;
+  // g, the velocity residual ġ (along (q̇, 1)) and the bias −g̈ with u̇ = 0 in one evaluation: the
+  // ε1, ε2 and ε1ε2 parts of g(q + (ε1+ε2) q̇, t + ε1 + ε2).
+  using D2 = DualT<DualT<S>>;
+  auto& x2 = ws.general_q2;
+  for (int i = 0; i < nq; ++i) x2[i] = D2(DualT<S>(q[i], ws.qdot[i]), DualT<S>(ws.qdot[i], S(0)));
+  expr::Inputs<D2> in2;
+  in2.parameters = ws.general_p2.data();
+  in2.coordinates = x2.data();
+  in2.time = D2(DualT<S>(ws.time, S(1)), DualT<S>(S(1), S(0)));
+  const D2 g = c.position.evaluate(in2);
+  ws.position_residual[row] = g.v.v;
+  ws.velocity_residual[row] = g.v.d;
+  ws.constraint_bias[row] = -g.d.d;
   // A row: ∂g/∂q_k for each speed k (u = q̇ joints).
+  auto& x1 = ws.general_q1;
   for (int i = 0; i < nq; ++i) x1[i] = DualT<S>(q[i]);
+  expr::Inputs<DualT<S>> in1;
+  in1.parameters = ws.general_p1.data();
+  in1.coordinates = x1.data();
   in1.time = DualT<S>(ws.time);
   for (int k = 0; k < m.nu; ++k) {
     const int ci = c.position_coordinate[k];
@@ -90,28 +95,15 @@ void general_position(const Model& m, Workspace<S>& ws, const Constraint& c, int
     ws.constraint_matrix(row, k) = c.position.evaluate(in1).d;
     x1[ci].d = S(0);
   }
-  // Bias: d²g/dt² with u̇ = 0, the ε1ε2 part of g(q + (ε1+ε2) q̇, t + ε1 + ε2).
-  using D2 = DualT<DualT<S>>;
-  auto& x2 = ws.general_q2;
-  auto& p2 = ws.general_p2;
-  for (int i = 0; i < np; ++i) p2[i] = D2(DualT<S>(ws.parameters[i]));
-  for (int i = 0; i < nq; ++i) x2[i] = D2(DualT<S>(q[i], ws.qdot[i]), DualT<S>(ws.qdot[i], S(0)));
-  expr::Inputs<D2> in2;
-  in2.parameters = p2.data();
-  in2.coordinates = x2.data();
-  in2.time = D2(DualT<S>(ws.time, S(1)), DualT<S>(S(1), S(0)));
-  ws.constraint_bias[row] = -c.position.evaluate(in2).d.d;
 }
 
 // A row, a0 and bias of a general velocity constraint Σ a_k u_k + a0 = 0.
 template <class S>
 void general_velocity(const Model& m, Workspace<S>& ws, const Constraint& c, int row, const S* q, const S* u) {
   auto& x = ws.general_q1;
-  auto& p = ws.general_p1;
-  for (int i = 0; i < m.nparam(); ++i) p[i] = DualT<S>(ws.parameters[i]);
   for (int i = 0; i < m.nq; ++i) x[i] = DualT<S>(q[i], ws.qdot[i]);
   expr::Inputs<DualT<S>> in;
-  in.parameters = p.data();
+  in.parameters = ws.general_p1.data();
   in.coordinates = x.data();
   in.time = DualT<S>(ws.time, S(1));
   clear_row(ws, row);

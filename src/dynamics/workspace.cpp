@@ -175,6 +175,11 @@ bool has_tangent(const Eigen::MatrixBase<Derived>& x) {
 template <class S>
 void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
   model::evaluate_parameter_values(m, p, ws.parameters.data(), ws.values.data());
+  // The general constraints' expressions read the parameters as constants of their dual types.
+  for (std::size_t i = 0; i < ws.general_p1.size(); ++i) {
+    ws.general_p1[i] = DualT<S>(ws.parameters[i]);
+    ws.general_p2[i] = DualT<DualT<S>>(DualT<S>(ws.parameters[i]));
+  }
 
   for (int b = 0; b < m.nbody(); ++b) {
     const auto& I = m.bodies[b].inertia;
