@@ -14,9 +14,7 @@
 
 #include <cmath>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "math/two_lane.hpp"
 
 namespace kanesens::math {
 
@@ -39,63 +37,63 @@ inline constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.388888888887410
 }  // namespace sincos_detail
 
 #if defined(__SSE2__)
+namespace sincos_detail {
+// a0 + z (a1 + z (a2 + …)), innermost first.
+template <class... More>
+inline two_lane::V2 horner(two_lane::V2 z, double a0, More... more) {
+  using namespace two_lane;
+  if constexpr (sizeof...(more) == 0) return splat(a0);
+  else return add(splat(a0), mul(z, horner(z, more...)));
+}
+}  // namespace sincos_detail
+
 // s[i] = sin x[i], c[i] = cos x[i] for i = 0, 1.
 inline void sincos2(const double x[2], double s[2], double c[2]) {
   using namespace sincos_detail;
-  __m128d X = _mm_loadu_pd(x);
-  const __m128d absX = _mm_andnot_pd(_mm_set1_pd(-0.0), X);
+  using namespace two_lane;
+  V2 X = load(x);
   // Lanes out of range (or NaN) are reduced as 0 here and taken from the C library below, so that
   // each angle's result does not depend on the angle it is paired with.
-  const __m128d in_range = _mm_cmple_pd(absX, _mm_set1_pd(kMaxReduced));
+  const V2 in_range = _mm_cmple_pd(_mm_andnot_pd(splat(-0.0), X), splat(kMaxReduced));
   const int lanes_in_range = _mm_movemask_pd(in_range);
   X = _mm_and_pd(X, in_range);
-  auto set = [](double v) { return _mm_set1_pd(v); };
   // n = nearest integer to x·2/π (the rounding mode's, nearest-even), exactly representable.
-  const __m128i N = _mm_cvtpd_epi32(_mm_mul_pd(X, set(kInvPio2)));
-  const __m128d n = _mm_cvtepi32_pd(N);
+  const __m128i N = _mm_cvtpd_epi32(mul(X, splat(kInvPio2)));
+  const V2 n = _mm_cvtepi32_pd(N);
   // y = x − n π/2 as y0 + y1: the first part's product and difference are exact; the second
   // and third parts' products are exact and each difference's rounding error (e, by Fast2Sum) is
   // kept with the last tail in w (fdlibm's e_rem_pio2, with every step taken).
-  __m128d r = _mm_sub_pd(X, _mm_mul_pd(n, set(kPio2_1)));
-  __m128d t = r, p = _mm_mul_pd(n, set(kPio2_2));
-  r = _mm_sub_pd(t, p);
-  __m128d e = _mm_sub_pd(_mm_sub_pd(t, r), p);
-  t = r, p = _mm_mul_pd(n, set(kPio2_3));
-  r = _mm_sub_pd(t, p);
-  e = _mm_add_pd(_mm_sub_pd(_mm_sub_pd(t, r), p), e);
-  const __m128d w = _mm_sub_pd(_mm_mul_pd(n, set(kPio2_3t)), e);
-  const __m128d y0 = _mm_sub_pd(r, w);
-  const __m128d y1 = _mm_sub_pd(_mm_sub_pd(r, y0), w);
+  V2 r = sub(X, mul(n, splat(kPio2_1)));
+  V2 t = r, p = mul(n, splat(kPio2_2));
+  r = sub(t, p);
+  V2 e = sub(sub(t, r), p);
+  t = r, p = mul(n, splat(kPio2_3));
+  r = sub(t, p);
+  e = add(sub(sub(t, r), p), e);
+  const V2 w = sub(mul(n, splat(kPio2_3t)), e);
+  const V2 y0 = sub(r, w);
+  const V2 y1 = sub(sub(r, y0), w);
   // sin(y0 + y1) ≈ y0 − ((z (y1/2 − v P) − y1) − v S1), z = y0², v = z y0, P = S2 + z (S3 + …).
-  const __m128d z = _mm_mul_pd(y0, y0);
-  const __m128d v = _mm_mul_pd(z, y0);
-  const __m128d P = _mm_add_pd(
-      set(S2),
-      _mm_mul_pd(z, _mm_add_pd(set(S3), _mm_mul_pd(z, _mm_add_pd(set(S4), _mm_mul_pd(z, _mm_add_pd(set(S5), _mm_mul_pd(z, set(S6)))))))));
-  const __m128d sin_y = _mm_sub_pd(
-      y0, _mm_sub_pd(_mm_sub_pd(_mm_mul_pd(z, _mm_sub_pd(_mm_mul_pd(set(0.5), y1), _mm_mul_pd(v, P))), y1),
-                     _mm_mul_pd(v, set(S1))));
+  const V2 z = mul(y0, y0);
+  const V2 v = mul(z, y0);
+  const V2 P = horner(z, S2, S3, S4, S5, S6);
+  const V2 sin_y = sub(y0, sub(sub(mul(z, sub(mul(splat(0.5), y1), mul(v, P))), y1), mul(v, splat(S1))));
   // cos(y0 + y1) ≈ h + (((1 − h) − z/2) + (z Q − y0 y1)), h = 1 − z/2,
   // Q = z (C1 + z (C2 + z C3)) + z⁴ (C4 + z (C5 + z C6)).
-  const __m128d z2 = _mm_mul_pd(z, z);
-  const __m128d Q = _mm_add_pd(
-      _mm_mul_pd(z, _mm_add_pd(set(C1), _mm_mul_pd(z, _mm_add_pd(set(C2), _mm_mul_pd(z, set(C3)))))),
-      _mm_mul_pd(_mm_mul_pd(z2, z2), _mm_add_pd(set(C4), _mm_mul_pd(z, _mm_add_pd(set(C5), _mm_mul_pd(z, set(C6)))))));
-  const __m128d hz = _mm_mul_pd(set(0.5), z);
-  const __m128d h = _mm_sub_pd(set(1.0), hz);
-  const __m128d cos_y = _mm_add_pd(
-      h, _mm_add_pd(_mm_sub_pd(_mm_sub_pd(set(1.0), h), hz), _mm_sub_pd(_mm_mul_pd(z, Q), _mm_mul_pd(y0, y1))));
+  const V2 z2 = mul(z, z);
+  const V2 Q = add(mul(z, horner(z, C1, C2, C3)), mul(mul(z2, z2), horner(z, C4, C5, C6)));
+  const V2 hz = mul(splat(0.5), z);
+  const V2 h = sub(splat(1.0), hz);
+  const V2 cos_y = add(h, add(sub(sub(splat(1.0), h), hz), sub(mul(z, Q), mul(y0, y1))));
   // Quadrant n mod 4: odd n swaps sin and cos; sin is negated for n ≡ 2, 3, cos for n ≡ 1, 2.
   const __m128i n64 = _mm_shuffle_epi32(N, _MM_SHUFFLE(1, 1, 0, 0));  // each lane's n in both halves
-  const __m128d odd = _mm_castsi128_pd(_mm_cmpeq_epi32(_mm_and_si128(n64, _mm_set1_epi32(1)), _mm_set1_epi32(1)));
-  const __m128d S = _mm_or_pd(_mm_and_pd(odd, cos_y), _mm_andnot_pd(odd, sin_y));
-  const __m128d C = _mm_or_pd(_mm_and_pd(odd, sin_y), _mm_andnot_pd(odd, cos_y));
-  const __m128i bit1 = _mm_slli_epi64(_mm_and_si128(n64, _mm_set1_epi32(2)), 62);            // n & 2 → sign
-  const __m128i bit0 = _mm_slli_epi64(_mm_and_si128(n64, _mm_set1_epi32(1)), 63);            // n & 1
-  const __m128d sin_sign = _mm_castsi128_pd(bit1);
-  const __m128d cos_sign = _mm_castsi128_pd(_mm_xor_si128(bit1, bit0));
-  _mm_storeu_pd(s, _mm_xor_pd(S, sin_sign));
-  _mm_storeu_pd(c, _mm_xor_pd(C, cos_sign));
+  const V2 odd = _mm_castsi128_pd(_mm_cmpeq_epi32(_mm_and_si128(n64, _mm_set1_epi32(1)), _mm_set1_epi32(1)));
+  const V2 S = _mm_or_pd(_mm_and_pd(odd, cos_y), _mm_andnot_pd(odd, sin_y));
+  const V2 C = _mm_or_pd(_mm_and_pd(odd, sin_y), _mm_andnot_pd(odd, cos_y));
+  const __m128i bit1 = _mm_slli_epi64(_mm_and_si128(n64, _mm_set1_epi32(2)), 62);  // n & 2 → sign
+  const __m128i bit0 = _mm_slli_epi64(_mm_and_si128(n64, _mm_set1_epi32(1)), 63);  // n & 1
+  store(s, _mm_xor_pd(S, _mm_castsi128_pd(bit1)));
+  store(c, _mm_xor_pd(C, _mm_castsi128_pd(_mm_xor_si128(bit1, bit0))));
   if (lanes_in_range != 3) [[unlikely]]
     for (int i = 0; i < 2; ++i)
       if (!(lanes_in_range >> i & 1)) s[i] = std::sin(x[i]), c[i] = std::cos(x[i]);
