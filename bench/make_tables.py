@@ -180,6 +180,14 @@ def sensitivity_cost_arch():
     return driver_table("sensitivity_cost", "sensitivity_cost_arch.json")
 
 
+def jacobian_cost_width6():
+    return driver_table("jacobian_cost", "jacobian_cost_width6.json")
+
+
+def sensitivity_cost_width6():
+    return driver_table("sensitivity_cost", "sensitivity_cost_width6.json")
+
+
 def sensitivity_corrector():
     return driver_table("sensitivity_corrector", "sensitivity_corrector.json", "summary")
 
@@ -862,7 +870,9 @@ TABLES = {
     "sensitivity_cost_dense_lu": sensitivity_cost_dense_lu,
     "dense_lu_solve": dense_lu_solve,
     "sensitivity_cost_planar_recursion": sensitivity_cost_planar_recursion,
-    "sensitivity_cost_arch": sensitivity_cost_arch, "multitangent": multitangent, "outputs_cost": outputs_cost,
+    "sensitivity_cost_arch": sensitivity_cost_arch,
+    "jacobian_cost_width6": jacobian_cost_width6, "sensitivity_cost_width6": sensitivity_cost_width6,
+    "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,
     "sensitivities": sensitivities_table, "constraints": constraints_table, "ensemble": ensemble_table,

@@ -265,6 +265,7 @@ bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, con
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
 KANESENS_INSTANTIATE(math::MultiDual<4>)
+KANESENS_INSTANTIATE(math::MultiDual<6>)
 KANESENS_INSTANTIATE(math::MultiDual<8>)
 KANESENS_INSTANTIATE(math::MultiDual<10>)
 KANESENS_INSTANTIATE(math::MultiDual<12>)

@@ -28,6 +28,8 @@ template void evaluate_parameter_values<Dual>(const Model&, const Dual*, Dual*, 
 template void evaluate_parameter_values<math::Dual2>(const Model&, const math::Dual2*, math::Dual2*, math::Dual2*);
 template void evaluate_parameter_values<math::MultiDual<4>>(const Model&, const math::MultiDual<4>*,
                                                              math::MultiDual<4>*, math::MultiDual<4>*);
+template void evaluate_parameter_values<math::MultiDual<6>>(const Model&, const math::MultiDual<6>*,
+                                                             math::MultiDual<6>*, math::MultiDual<6>*);
 template void evaluate_parameter_values<math::MultiDual<8>>(const Model&, const math::MultiDual<8>*,
                                                              math::MultiDual<8>*, math::MultiDual<8>*);
 template void evaluate_parameter_values<math::MultiDual<10>>(const Model&, const math::MultiDual<10>*,

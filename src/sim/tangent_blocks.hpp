@@ -1,5 +1,5 @@
 // Directions evaluated in multi-tangent passes (math/multi_dual.hpp): k directions (Jacobian
-// columns, sensitivities) split into blocks of the compiled widths 4, 8, 10, 12, 16, each with its own
+// columns, sensitivities) split into blocks of the compiled widths 4, 6, 8, 10, 12, 16, each with its own
 // workspace (its parameter tangents set once per sample), embedding scratch and seeded state.
 // Allocated at construction; evaluating a block allocates nothing.
 #pragma once
@@ -32,7 +32,8 @@ struct TangentBlock {
 
 // k directions take ⌈k/16⌉ passes: blocks of 16 and one block of the smallest width that holds
 // the rest (at most 3 idle directions, rounded up to whole SIMD packs; 10 holds the Jacobian of
-// a 5-DOF scene exactly). Fewer, wider passes win: each pass repeats the value work.
+// a 5-DOF scene exactly, 6 six sensitivities). Fewer, wider passes win: each pass repeats the
+// value work.
 class TangentBlocks {
  public:
   static constexpr int max_width = 16;
@@ -41,6 +42,7 @@ class TangentBlocks {
     for (int first = 0; first < directions; first += max_width) {
       const int c = std::min(max_width, directions - first);
       if (c <= 4) b4_.push_back(std::make_unique<TangentBlock<4>>(m, first, c));
+      else if (c <= 6) b6_.push_back(std::make_unique<TangentBlock<6>>(m, first, c));
       else if (c <= 8) b8_.push_back(std::make_unique<TangentBlock<8>>(m, first, c));
       else if (c <= 10) b10_.push_back(std::make_unique<TangentBlock<10>>(m, first, c));
       else if (c <= 12) b12_.push_back(std::make_unique<TangentBlock<12>>(m, first, c));
@@ -55,6 +57,7 @@ class TangentBlocks {
     for (auto& b : b12_) f(*b);
     for (auto& b : b10_) f(*b);
     for (auto& b : b8_) f(*b);
+    for (auto& b : b6_) f(*b);
     for (auto& b : b4_) f(*b);
   }
 
@@ -63,6 +66,7 @@ class TangentBlocks {
   std::vector<std::unique_ptr<TangentBlock<12>>> b12_;
   std::vector<std::unique_ptr<TangentBlock<10>>> b10_;
   std::vector<std::unique_ptr<TangentBlock<8>>> b8_;
+  std::vector<std::unique_ptr<TangentBlock<6>>> b6_;
   std::vector<std::unique_ptr<TangentBlock<4>>> b4_;
 };
 

@@ -146,6 +146,7 @@ TEST(NoAllocation, EvaluateRhsDual) {
 TEST(NoAllocation, EvaluateRhsMultiDual) {
   for (const auto& c : cases()) {
     SCOPED_TRACE(c.name);
+    expect_no_allocation<math::MultiDual<6>>(c.text);
     expect_no_allocation<math::MultiDual<8>>(c.text);
     expect_no_allocation<math::MultiDual<10>>(c.text);
     expect_no_allocation<math::MultiDual<12>>(c.text);
