@@ -95,10 +95,12 @@ void compute_position(const Model& m, Workspace<S>& ws, const S* q) {
         const int i1 = ws.joint_axis_index[ji], i2 = ws.joint_axis2_index[ji];
         if (i1 >= 0 && i2 >= 0) {
           // Both axes coordinate axes: R_P R_first and then R_C, each rotating two columns.
-          using std::cos, std::sin;
+          S cos_q, sin_q;
           Mat3<S> R_mid;
-          math::rotate_about_coordinate_axis<S>(P >= 0 ? R_P : ws.identity, i1, cos(qj[0]), sin(qj[0]), R_mid);
-          math::rotate_about_coordinate_axis<S>(R_mid, i2, cos(qj[1]), sin(qj[1]), R_C);
+          detail::joint_angle(ws, q, J.q_offset, cos_q, sin_q);
+          math::rotate_about_coordinate_axis<S>(P >= 0 ? R_P : ws.identity, i1, cos_q, sin_q, R_mid);
+          detail::joint_angle(ws, q, J.q_offset + 1, cos_q, sin_q);
+          math::rotate_about_coordinate_axis<S>(R_mid, i2, cos_q, sin_q, R_C);
           second_axis = R_mid.col(i2);
           break;
         }

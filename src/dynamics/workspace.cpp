@@ -87,7 +87,7 @@ Workspace<S>::Workspace(const Model& m)
       bias_planar(m.nbody()),
       wrench_planar(m.nbody()),
       prefix(7) {
-  coordinate_angles.reserve(m.joints.size() + 1);  // set_parameters fills it without allocating
+  coordinate_angles.reserve(2 * m.joints.size() + 1);  // set_parameters fills it without allocating
   {
     std::vector<unsigned char> used(static_cast<std::size_t>(m.nu), 0);
     for (int l : m.speed_order) {
@@ -227,13 +227,17 @@ void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
   }
   // The angles the position stage rotates by with their cos and sin: on the planar path every
   // revolute joint's and a planar joint's rotation, on the 3-D path those about a coordinate axis
-  // (a planar scene evaluated in 3-D, Model::force_general_3d, has them all).
+  // (a revolute's, or both of a universal joint's; a planar scene evaluated in 3-D,
+  // Model::force_general_3d, has them all).
   ws.coordinate_angles.clear();
   for (std::size_t j = 0; j < m.joints.size(); ++j) {
     const Joint& J = m.joints[j];
-    if (J.type == JointType::revolute && (m.planar || ws.joint_axis_index[j] >= 0))
+    if (J.type == JointType::revolute && (m.planar || ws.joint_axis_index[j] >= 0)) {
       ws.coordinate_angles.push_back(J.q_offset);
-    else if (J.type == JointType::planar && m.planar)
+    } else if (J.type == JointType::universal && ws.joint_axis_index[j] >= 0 && ws.joint_axis2_index[j] >= 0) {
+      ws.coordinate_angles.push_back(J.q_offset);
+      ws.coordinate_angles.push_back(J.q_offset + 1);
+    } else if (J.type == JointType::planar && m.planar)
       ws.coordinate_angles.push_back(J.q_offset + 2);
   }
   if (ws.coordinate_angles.size() % 2) ws.coordinate_angles.push_back(ws.coordinate_angles.back());

@@ -5,6 +5,7 @@
 #pragma once
 #include <algorithm>
 #include <memory>
+#include <tuple>
 #include <vector>
 
 #include "dynamics/embedding.hpp"
@@ -33,41 +34,35 @@ struct TangentBlock {
 // k directions take ⌈k/16⌉ passes: blocks of 16 and one block of the smallest width that holds
 // the rest (at most 3 idle directions, rounded up to whole SIMD packs; 10 holds the Jacobian of
 // a 5-DOF scene exactly, 6 six sensitivities). Fewer, wider passes win: each pass repeats the
-// value work.
-class TangentBlocks {
+// value work. W: the compiled widths, widest first.
+template <int... W>
+class TangentBlockSet {
  public:
-  static constexpr int max_width = 16;
-  TangentBlocks() = default;
-  TangentBlocks(const model::Model& m, int directions) {
+  static constexpr int max_width = std::max({W...});
+  TangentBlockSet() = default;
+  TangentBlockSet(const model::Model& m, int directions) {
     for (int first = 0; first < directions; first += max_width) {
       const int c = std::min(max_width, directions - first);
-      if (c <= 4) b4_.push_back(std::make_unique<TangentBlock<4>>(m, first, c));
-      else if (c <= 6) b6_.push_back(std::make_unique<TangentBlock<6>>(m, first, c));
-      else if (c <= 8) b8_.push_back(std::make_unique<TangentBlock<8>>(m, first, c));
-      else if (c <= 10) b10_.push_back(std::make_unique<TangentBlock<10>>(m, first, c));
-      else if (c <= 12) b12_.push_back(std::make_unique<TangentBlock<12>>(m, first, c));
-      else b16_.push_back(std::make_unique<TangentBlock<16>>(m, first, c));
+      int width = max_width;
+      for (int w : {W...})
+        if (w >= c) width = std::min(width, w);
+      ((W == width ? (std::get<Blocks<W>>(blocks_).push_back(std::make_unique<TangentBlock<W>>(m, first, c)), 0) : 0),
+       ...);
     }
   }
   // f(block) for every block, the one holding direction 0 first (a generic callable: the blocks
   // have different widths).
   template <class F>
   void for_each(F&& f) {
-    for (auto& b : b16_) f(*b);
-    for (auto& b : b12_) f(*b);
-    for (auto& b : b10_) f(*b);
-    for (auto& b : b8_) f(*b);
-    for (auto& b : b6_) f(*b);
-    for (auto& b : b4_) f(*b);
+    std::apply([&](auto&... blocks) { ((void)[&] { for (auto& b : blocks) f(*b); }(), ...); }, blocks_);
   }
 
  private:
-  std::vector<std::unique_ptr<TangentBlock<16>>> b16_;
-  std::vector<std::unique_ptr<TangentBlock<12>>> b12_;
-  std::vector<std::unique_ptr<TangentBlock<10>>> b10_;
-  std::vector<std::unique_ptr<TangentBlock<8>>> b8_;
-  std::vector<std::unique_ptr<TangentBlock<6>>> b6_;
-  std::vector<std::unique_ptr<TangentBlock<4>>> b4_;
+  template <int V>
+  using Blocks = std::vector<std::unique_ptr<TangentBlock<V>>>;
+  std::tuple<Blocks<W>...> blocks_;
 };
+
+using TangentBlocks = TangentBlockSet<16, 12, 10, 8, 6, 4>;
 
 }  // namespace kanesens::sim
