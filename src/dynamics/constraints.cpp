@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "math/dual.hpp"
-#include "math/dual2.hpp"
+#include "math/dual2.hpp"  // the Dual2 instantiations
 #include "math/multi_dual.hpp"
 #include "dynamics/equations.hpp"
 #include "dynamics/frames.hpp"
@@ -63,38 +63,29 @@ void for_each_point_partial(const Model& m, const Workspace<S>& ws, int b, Vec3<
 // The dual copies of q live in the workspace (nq entries: any size, no allocation here), those of
 // the parameters too (set_parameters fills them).
 template <class S>
-void general_position(const Model& m, Workspace<S>& ws, const Constraint& c, int row, const S* q) {
-  const int nq = m.nq;
-  // g, the velocity residual ġ (along (q̇, 1)) and the bias −g̈ with u̇ = 0 in one evaluation: the
-  // ε1, ε2 and ε1ε2 parts of g(q + (ε1+ε2) q̇, t + ε1 + ε2).
-  using D2 = DualT<DualT<S>>;
-  auto& x2 = ws.general_q2;
-  for (int i = 0; i < nq; ++i) x2[i] = D2(DualT<S>(q[i], ws.qdot[i]), DualT<S>(ws.qdot[i], S(0)));
-  expr::Inputs<D2> in2;
-  in2.parameters = ws.general_p2.data();
-  in2.coordinates = x2.data();
-  in2.time = D2(DualT<S>(ws.time, S(1)), DualT<S>(S(1), S(0)));
-  const D2 g = c.position.evaluate(in2);
-  ws.position_residual[row] = g.v.v;
-  ws.velocity_residual[row] = g.v.d;
-  ws.constraint_bias[row] = -g.d.d;
-  // A row: ∂g/∂q_k for each speed k (u = q̇ joints).
-  auto& x1 = ws.general_q1;
-  for (int i = 0; i < nq; ++i) x1[i] = DualT<S>(q[i]);
-  expr::Inputs<DualT<S>> in1;
-  in1.parameters = ws.general_p1.data();
-  in1.coordinates = x1.data();
-  in1.time = DualT<S>(ws.time);
-  for (int k = 0; k < m.nu; ++k) {
-    const int ci = c.position_coordinate[k];
-    if (ci < 0) {
-      ws.constraint_matrix(row, k) = S(0);
-      continue;
-    }
-    x1[ci].d = S(1);
-    ws.constraint_matrix(row, k) = c.position.evaluate(in1).d;
-    x1[ci].d = S(0);
+void general_position(Workspace<S>& ws, const Constraint& c, int row, const S* q) {
+  // One gradient of g on duals along (q̇, 1): its value is g and its ε part the velocity residual
+  // ġ; the gradient's values are ∂g/∂q_i (the A row, u = q̇) and its ε parts H (q̇, 1) with H the
+  // Hessian in (q, t), so the bias −g̈ at u̇ = 0 is −(q̇, 1)·H (q̇, 1).
+  auto& x = ws.general_q1;
+  for (const auto& [i, k] : c.position_reads) x[i] = DualT<S>(q[i], ws.qdot[i]);
+  expr::Inputs<DualT<S>> in;
+  in.parameters = ws.general_p1.data();
+  in.coordinates = x.data();
+  in.time = DualT<S>(ws.time, S(1));
+  DualT<S>* grad = ws.general_gradient.data();
+  for (const auto& [i, k] : c.position_reads) grad[i] = DualT<S>(S(0));
+  DualT<S> d_time;
+  const DualT<S> g = c.position.gradient(in, ws.general_tape, grad, d_time);
+  ws.position_residual[row] = g.v;
+  ws.velocity_residual[row] = g.d;
+  clear_row(ws, row);
+  S bias = d_time.d;
+  for (const auto& [i, k] : c.position_reads) {
+    ws.constraint_matrix(row, k) = grad[i].v;
+    bias += grad[i].d * ws.qdot[i];
   }
+  ws.constraint_bias[row] = -bias;
 }
 
 // A row, a0 and bias of a general velocity constraint Σ a_k u_k + a0 = 0.
@@ -211,7 +202,7 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         break;
       }
       case Constraint::Kind::general:
-        if (c.has_position) general_position(m, ws, c, r0, q);
+        if (c.has_position) general_position(ws, c, r0, q);
         else general_velocity(m, ws, c, r0, q, u);
         break;
       case Constraint::Kind::rolling: {

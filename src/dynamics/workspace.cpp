@@ -1,5 +1,6 @@
 #include "dynamics/workspace.hpp"
 
+#include <algorithm>
 #include <type_traits>
 
 #include "math/dual.hpp"
@@ -101,12 +102,17 @@ Workspace<S>::Workspace(const Model& m)
     }
   }
   bool general = false;
-  for (const Constraint& c : m.constraints) general = general || c.kind == Constraint::Kind::general;
+  std::size_t longest_position = 0;
+  for (const Constraint& c : m.constraints)
+    if (c.kind == Constraint::Kind::general) {
+      general = true;
+      if (c.has_position) longest_position = std::max(longest_position, c.position.size());
+    }
   if (general) {
     general_q1.resize(m.nq);
     general_p1.resize(m.nparam());
-    general_q2.resize(m.nq);
-    general_p2.resize(m.nparam());
+    general_gradient.resize(m.nq);
+    general_tape.resize(longest_position);
   }
   for (Slot s : m.parameter_slots)
     if (m.expressions[s].is_constant()) values[s] = S(m.expressions[s].constant_value());
@@ -176,10 +182,7 @@ template <class S>
 void set_parameters(const Model& m, Workspace<S>& ws, const S* p) {
   model::evaluate_parameter_values(m, p, ws.parameters.data(), ws.values.data());
   // The general constraints' expressions read the parameters as constants of their dual types.
-  for (std::size_t i = 0; i < ws.general_p1.size(); ++i) {
-    ws.general_p1[i] = DualT<S>(ws.parameters[i]);
-    ws.general_p2[i] = DualT<DualT<S>>(DualT<S>(ws.parameters[i]));
-  }
+  for (std::size_t i = 0; i < ws.general_p1.size(); ++i) ws.general_p1[i] = DualT<S>(ws.parameters[i]);
 
   for (int b = 0; b < m.nbody(); ++b) {
     const auto& I = m.bodies[b].inertia;

@@ -182,10 +182,11 @@ struct Workspace {
   // Solve with the sparsity above (dynamics/constraint_solve.cpp) when it saves work: needs
   // tree_factor; tests set it to compare with the dense solve.
   bool sparse_constraints = false;
-  // General constraints (dynamics/constraints.cpp): q and the parameters as first- and second-order
-  // duals, nq and np entries (empty when the model has no general constraint).
-  std::vector<DualT<S>> general_q1, general_p1;
-  std::vector<DualT<DualT<S>>> general_q2, general_p2;
+  // General constraints (dynamics/constraints.cpp): q and the parameters as duals, nq and np
+  // entries, and a position function's gradient: the coordinates' adjoints (nq) and its tape
+  // (empty when the model has no general constraint).
+  std::vector<DualT<S>> general_q1, general_p1, general_gradient;
+  model::expr::Tape<DualT<S>> general_tape;
 
   // Planar evaluation (Model::evaluate_planar(); math/planar.hpp). R, joint_offset,
   // tree_anchor, tree_position and velocity are still filled (forces and energies read them);

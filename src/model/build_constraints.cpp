@@ -95,6 +95,9 @@ void Builder::build_constraints() {
                        "'; a position function may use only coordinates whose rates are speeds (u = q̇); use a "
                        "coincident or distance constraint, or the velocity form 'a'");
         }
+        for (int i : c.position.variables(expr::VarKind::coordinate))
+          for (int k = 0; k < m_.nu; ++k)
+            if (c.position_coordinate[static_cast<std::size_t>(k)] == i) c.position_reads.emplace_back(i, k);
       } else {
         for (const auto& [speed, text] : cs.a) {
           int k = -1;

@@ -93,6 +93,7 @@ struct Constraint {
   bool has_position = false;
   expr::Expression position;
   std::vector<int> position_coordinate;  // speed k → coordinate index (position form)
+  std::vector<std::pair<int, int>> position_reads;  // (coordinate, its speed) for each coordinate it reads
   // rolling
   int body = -1;
   Slot radius = -1, height = -1;

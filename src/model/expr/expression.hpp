@@ -3,6 +3,7 @@
 // so derivatives with respect to parameters and states are exact.
 #pragma once
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -61,6 +62,19 @@ struct Inputs {
   S time = S(0);
 };
 
+// Scratch of Expression::gradient: per instruction its value, the partials of that value with
+// respect to its (at most two) operands, the operands' instruction indices, and the adjoint.
+// Sized once for the longest program; a gradient then allocates nothing.
+template <class S>
+struct Tape {
+  std::vector<S> value, partial_a, partial_b, adjoint;
+  std::vector<std::array<int, 2>> operand;
+  void resize(std::size_t n) {
+    value.resize(n), partial_a.resize(n), partial_b.resize(n), adjoint.resize(n), operand.resize(n);
+  }
+  std::size_t size() const { return value.size(); }
+};
+
 class Expression {
  public:
   static constexpr int kMaxStack = 32;
@@ -88,6 +102,15 @@ class Expression {
 
   template <class S>
   S evaluate(const Inputs<S>& in) const;
+  // The value (the same bits as evaluate) and its derivatives with respect to the coordinates
+  // and time, from one forward sweep that records each instruction's local partials and one
+  // reverse sweep of adjoints: the cost of a few evaluations however many coordinates it reads.
+  // Adds ∂g/∂q_i to d_coordinates[i] for each coordinate i it reads (the caller zeroes them) and
+  // sets d_time. tape.size() ≥ size().
+  template <class S>
+  S gradient(const Inputs<S>& in, Tape<S>& tape, S* d_coordinates, S& d_time) const;
+  // Number of instructions (the tape a gradient needs).
+  std::size_t size() const { return code_.size(); }
 
  private:
   friend Expression compile(const std::string&, const NameTable&, const SourceLocation&,
@@ -164,6 +187,132 @@ S Expression::evaluate(const Inputs<S>& in) const {
     }
   }
   return st(0);
+}
+
+template <class S>
+S Expression::gradient(const Inputs<S>& in, Tape<S>& tape, S* d_coordinates, S& d_time) const {
+  using std::abs, std::atan2, std::cos, std::exp, std::log, std::sin, std::sqrt, std::tan,
+      std::asin, std::acos, std::atan, std::pow;
+  d_time = S(0);
+  const int n = static_cast<int>(code_.size());
+  if (n == 0) return S(0);
+  assert(tape.size() >= code_.size());
+  S* val = tape.value.data();
+  S* pa = tape.partial_a.data();
+  S* pb = tape.partial_b.data();
+  std::array<int, 2>* arg = tape.operand.data();
+  // Forward: the operations of evaluate in the same order (the same value bits); the stack holds
+  // instruction indices.
+  std::array<int, kMaxStack> stack;
+  int sp = 0;
+  for (int i = 0; i < n; ++i) {
+    const Instruction& ins = code_[static_cast<std::size_t>(i)];
+    int a = -1, b = -1;
+    if (ins.op != Op::constant && ins.op != Op::variable) {
+      const bool binary = ins.op == Op::add || ins.op == Op::sub || ins.op == Op::mul || ins.op == Op::div ||
+                          ins.op == Op::pow || ins.op == Op::atan2 || ins.op == Op::min || ins.op == Op::max;
+      if (binary) b = stack[--sp];
+      a = stack[--sp];
+    }
+    arg[i] = {a, b};
+    stack[sp++] = i;
+    switch (ins.op) {
+      case Op::constant: val[i] = S(ins.value); break;
+      case Op::variable:
+        switch (ins.kind) {
+          case VarKind::parameter: val[i] = in.parameters[ins.index]; break;
+          case VarKind::time: val[i] = in.time; break;
+          case VarKind::coordinate: val[i] = in.coordinates[ins.index]; break;
+          case VarKind::speed: val[i] = in.speeds[ins.index]; break;
+          case VarKind::quantity: val[i] = in.quantities[ins.index]; break;
+        }
+        break;
+      case Op::add: val[i] = val[a] + val[b]; break;
+      case Op::sub: val[i] = val[a] - val[b]; break;
+      case Op::mul: val[i] = val[a] * val[b]; break;
+      case Op::div: val[i] = val[a] / val[b]; break;
+      case Op::pow:
+        val[i] = pow(val[a], val[b]);
+        pa[i] = val[b] * pow(val[a], val[b] - S(1));
+        pb[i] = S(0) < val[a] ? val[i] * log(val[a]) : S(0);  // as the dual numbers' pow
+        break;
+      case Op::atan2: {
+        val[i] = atan2(val[a], val[b]);
+        const S r2 = val[b] * val[b] + val[a] * val[a];
+        pa[i] = val[b] / r2;
+        pb[i] = -val[a] / r2;
+        break;
+      }
+      case Op::min: val[i] = val[b] < val[a] ? val[b] : val[a]; break;
+      case Op::max: val[i] = val[a] < val[b] ? val[b] : val[a]; break;
+      case Op::neg: val[i] = -val[a]; break;
+      case Op::powi: {
+        // As evaluate: repeated multiplication; the partial k x^(k−1) (k = ins.index) likewise.
+        const S x = val[a];
+        const int k = ins.index < 0 ? -ins.index : ins.index;
+        S r = S(1), r_less = S(1);
+        for (int j = 0; j < k; ++j) {
+          if (j + 1 < k) r_less = r_less * x;
+          r = r * x;
+        }
+        if (k == 0) {
+          val[i] = ins.index < 0 ? S(1) / r : r;
+          pa[i] = S(0);
+        } else if (ins.index < 0) {
+          val[i] = S(1) / r;
+          pa[i] = S(ins.index) * r_less * val[i] * val[i];  // −k x^(k−1) / x^(2k)
+        } else {
+          val[i] = r;
+          pa[i] = S(k) * r_less;
+        }
+        break;
+      }
+      case Op::sin: val[i] = sin(val[a]), pa[i] = cos(val[a]); break;
+      case Op::cos: val[i] = cos(val[a]), pa[i] = -sin(val[a]); break;
+      case Op::tan: val[i] = tan(val[a]), pa[i] = S(1) + val[i] * val[i]; break;
+      case Op::asin: val[i] = asin(val[a]), pa[i] = S(1) / sqrt(S(1) - val[a] * val[a]); break;
+      case Op::acos: val[i] = acos(val[a]), pa[i] = S(-1) / sqrt(S(1) - val[a] * val[a]); break;
+      case Op::atan: val[i] = atan(val[a]), pa[i] = S(1) / (S(1) + val[a] * val[a]); break;
+      case Op::exp: val[i] = exp(val[a]), pa[i] = val[i]; break;
+      case Op::log: val[i] = log(val[a]), pa[i] = S(1) / val[a]; break;
+      case Op::sqrt:  // a zero derivative at 0, as the dual numbers' sqrt
+        val[i] = sqrt(val[a]), pa[i] = S(0) < val[i] ? S(0.5) / val[i] : S(0);
+        break;
+      case Op::abs: val[i] = abs(val[a]), pa[i] = val[a] < S(0) ? S(-1) : S(1); break;
+    }
+  }
+  // Reverse: adjoints from the result back to the variables.
+  S* adj = tape.adjoint.data();
+  for (int i = 0; i < n; ++i) adj[i] = S(0);
+  adj[n - 1] = S(1);
+  for (int i = n - 1; i >= 0; --i) {
+    const Instruction& ins = code_[static_cast<std::size_t>(i)];
+    const S& w = adj[i];
+    const auto [a, b] = arg[i];
+    switch (ins.op) {
+      case Op::constant: break;
+      case Op::variable:
+        if (ins.kind == VarKind::coordinate) d_coordinates[ins.index] += w;
+        else if (ins.kind == VarKind::time) d_time += w;
+        break;
+      case Op::add: adj[a] += w, adj[b] += w; break;
+      case Op::sub: adj[a] += w, adj[b] -= w; break;
+      case Op::neg: adj[a] -= w; break;
+      case Op::mul: adj[a] += w * val[b], adj[b] += w * val[a]; break;
+      case Op::div: {
+        const S wb = w / val[b];
+        adj[a] += wb;
+        adj[b] -= wb * val[i];
+        break;
+      }
+      case Op::pow:
+      case Op::atan2: adj[a] += w * pa[i], adj[b] += w * pb[i]; break;
+      case Op::min: adj[val[b] < val[a] ? b : a] += w; break;
+      case Op::max: adj[val[a] < val[b] ? b : a] += w; break;
+      default: adj[a] += w * pa[i]; break;  // the unary functions and powi
+    }
+  }
+  return val[n - 1];
 }
 
 }  // namespace kanesens::model::expr
