@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The exact Jacobian's cost in right-hand sides: `kanesens bench rhs --json` side by side.
 
-  jacobian_cost.py OUT.json LABEL=EXE [LABEL=EXE ...] [--rounds K]
+  jacobian_cost.py OUT.json LABEL=EXE [LABEL=EXE ...] [--rounds K] [--scenes a,b]
   jacobian_cost.py --table OUT.json
 
 For every scene and executable, K rounds (interleaved across executables) of `bench rhs`; each
@@ -35,9 +35,9 @@ def bench(exe, scene):
     return json.loads(p.stdout)
 
 
-def measure(out, exes, rounds, command):
+def measure(out, exes, rounds, command, scenes=SCENES):
     rows = []
-    for scene in SCENES:
+    for scene in scenes:
         runs = {label: [] for label, _ in exes}
         for _ in range(rounds):
             for label, exe in exes:
@@ -77,12 +77,14 @@ def table(path):
 if __name__ == "__main__":
     argv = sys.argv[1:]
     table_or_usage(argv, table, __doc__)
-    rounds, exes = 5, []
+    rounds, exes, scenes = 5, [], SCENES
     i = 1
     while i < len(argv):
         if argv[i] == "--rounds":
             rounds = int(argv[i + 1]); i += 2
+        elif argv[i] == "--scenes":
+            scenes = argv[i + 1].split(","); i += 2
         else:
             exes.append(tuple(argv[i].split("=", 1))); i += 1
-    measure(argv[0], exes, rounds, "/usr/bin/python3 bench/jacobian_cost.py " + " ".join(argv))
+    measure(argv[0], exes, rounds, "/usr/bin/python3 bench/jacobian_cost.py " + " ".join(argv), scenes)
     table(argv[0])

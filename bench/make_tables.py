@@ -188,6 +188,14 @@ def sensitivity_cost_width6():
     return driver_table("sensitivity_cost", "sensitivity_cost_width6.json")
 
 
+def jacobian_cost_gradient():
+    return driver_table("jacobian_cost", "jacobian_cost_gradient.json")
+
+
+def sensitivity_cost_gradient():
+    return driver_table("sensitivity_cost", "sensitivity_cost_gradient.json")
+
+
 def sensitivity_corrector():
     return driver_table("sensitivity_corrector", "sensitivity_corrector.json", "summary")
 
@@ -872,6 +880,7 @@ TABLES = {
     "sensitivity_cost_planar_recursion": sensitivity_cost_planar_recursion,
     "sensitivity_cost_arch": sensitivity_cost_arch,
     "jacobian_cost_width6": jacobian_cost_width6, "sensitivity_cost_width6": sensitivity_cost_width6,
+    "jacobian_cost_gradient": jacobian_cost_gradient, "sensitivity_cost_gradient": sensitivity_cost_gradient,
     "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,

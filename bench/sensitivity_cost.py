@@ -58,6 +58,12 @@ scene: {root}/bench/configs/nlink_chain_16.yaml
 time: {{end: 2.0, outputs: 21}}
 solver: {{rtol: 1.0e-8, atol: 1.0e-10}}
 """, "m,L,j1.q0,j2.q0,j1.u0,j3.q0", ["bdf", "dop853"]),
+    "andrews": ("""kanesens: 1
+scene: {root}/configs/andrews.yaml
+time: {{end: 0.03, outputs: 31}}
+solver: {{rtol: 1.0e-8, atol: 1.0e-10,
+         constraints: {{formulation: multipliers, stabilization: projection, correct_initial: true}}}}
+""", "mom,c0,m1,m3,I1,d", ["bdf", "dop853"]),
     "chain8_spatial": ("""kanesens: 1
 scene: {tmp}/chain8_spatial_scene.yaml
 time: {{end: 2.0, outputs: 21}}
