@@ -6,7 +6,7 @@
 #                seeds tests/fuzz/corpus/scene/ and the shipped configs/, dictionary yaml.dict,
 #                number/name mutations of tests/fuzz/yaml_mutator.hpp
 #   fuzz_study   study text -> study::setup_study (everything simulate and run check); the same
-#   fuzz_expr    expression text -> compile + evaluate
+#   fuzz_expr    expression text -> compile + evaluate + gradient (the same value)
 #   fuzz_resume  edits of a real run file -> RunFile::open_for_resume + rows written
 # Exits non-zero on any finding; the input is left in build-asan/fuzz/artifacts/<target>/ (it
 # then becomes a row of tests/unit/test_bad_input.cpp or tests/unit/test_run_file.cpp with the

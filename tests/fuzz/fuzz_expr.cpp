@@ -1,9 +1,11 @@
-// libFuzzer: expression text -> expr::compile + evaluate (double). Syntax errors must be
-// InputErrors; evaluation must not crash (NaN/inf values are fine here: the model build and
-// check_parameters report them with the expression's location).
+// libFuzzer: expression text -> expr::compile + evaluate and gradient (double). Syntax errors must
+// be InputErrors; evaluation must not crash (NaN/inf values are fine here: the model build and
+// check_parameters report them with the expression's location), and the gradient's value must
+// be evaluate's, bit for bit.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 #include "model/expr/expression.hpp"
@@ -28,8 +30,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     in.coordinates = q;
     in.speeds = u;
     in.time = 0.7;
-    volatile double v = e.evaluate(in);
-    (void)v;
+    const double v = e.evaluate(in);
+    Tape<double> tape;
+    tape.resize(e.size());
+    double d_q[1] = {0}, d_t = 0;
+    const double g = e.gradient(in, tape, d_q, d_t);
+    if (std::memcmp(&v, &g, sizeof v) != 0 && !(v != v && g != g)) {
+      std::fprintf(stderr, "fuzz_expr: gradient's value %.17g differs from evaluate's %.17g\n", g, v);
+      std::abort();
+    }
   } catch (const kanesens::InputError&) {
   } catch (const std::exception& ex) {
     std::fprintf(stderr, "fuzz_expr: not an InputError: %s\n", ex.what());
