@@ -76,8 +76,7 @@ long allocations_during(F&& f) {
 }
 
 template <class S>
-void expect_no_allocation(const std::string& text) {
-  const Model m = build_model(parse_scene_text(text, "scene.yaml"));
+void expect_no_allocation(const Model& m) {
   Workspace<S> ws(m);
   const std::vector<double> p0 = m.nominal_parameters();
   const std::vector<S> p(p0.begin(), p0.end());
@@ -105,17 +104,26 @@ void expect_no_allocation(const std::string& text) {
 
 struct Case {
   const char* name;
-  std::string text;
+  Model model;
 };
 std::vector<Case> cases() {
-  return {{"chain", test_scenes::chain_scene(8)},
-          {"chain_tilted", test_scenes::chain_scene(8, 0.1)},
-          // long enough for the articulated-body evaluation on double
-          {"chain_tilted_long", test_scenes::chain_scene(dynamics::kArticulatedBodyMinSpeeds, 0.1)},
-          {"spherical", test_scenes::kSphericalScene},
-          {"free", test_scenes::kFreeScene},
-          {"forces", test_scenes::kForcesScene},
-          {"n_four_bar", test_scenes::n_four_bar(6)}};  // the tree factor and the sparse constraint solve
+  auto text = [](const std::string& t) { return build_model(parse_scene_text(t, "scene.yaml")); };
+  auto file = [](const char* name) {
+    return build_model(parse_scene_file(std::string(KANESENS_SOURCE_DIR) + "/configs/" + name));
+  };
+  std::vector<Case> c;
+  c.push_back({"chain", text(test_scenes::chain_scene(8))});
+  c.push_back({"chain_tilted", text(test_scenes::chain_scene(8, 0.1))});
+  // long enough for the articulated-body evaluation on double
+  c.push_back({"chain_tilted_long", text(test_scenes::chain_scene(dynamics::kArticulatedBodyMinSpeeds, 0.1))});
+  c.push_back({"spherical", text(test_scenes::kSphericalScene)});
+  c.push_back({"free", text(test_scenes::kFreeScene)});
+  c.push_back({"forces", text(test_scenes::kForcesScene)});
+  c.push_back({"n_four_bar", text(test_scenes::n_four_bar(6))});  // the tree factor and the sparse constraint solve
+  c.push_back({"andrews", file("andrews.yaml")});        // general position constraints (their gradients)
+  c.push_back({"knife_edge", file("knife_edge.yaml")});  // a general velocity constraint
+  c.push_back({"arm_3d", file("arm_3d.yaml")});          // a universal joint about two coordinate axes
+  return c;
 }
 
 }  // namespace
@@ -132,24 +140,24 @@ TEST(NoAllocation, CounterSeesAllocations) {
 TEST(NoAllocation, EvaluateRhsDouble) {
   for (const auto& c : cases()) {
     SCOPED_TRACE(c.name);
-    expect_no_allocation<double>(c.text);
+    expect_no_allocation<double>(c.model);
   }
 }
 
 TEST(NoAllocation, EvaluateRhsDual) {
   for (const auto& c : cases()) {
     SCOPED_TRACE(c.name);
-    expect_no_allocation<Dual>(c.text);
+    expect_no_allocation<Dual>(c.model);
   }
 }
 
 TEST(NoAllocation, EvaluateRhsMultiDual) {
   for (const auto& c : cases()) {
     SCOPED_TRACE(c.name);
-    expect_no_allocation<math::MultiDual<6>>(c.text);
-    expect_no_allocation<math::MultiDual<8>>(c.text);
-    expect_no_allocation<math::MultiDual<10>>(c.text);
-    expect_no_allocation<math::MultiDual<12>>(c.text);
+    expect_no_allocation<math::MultiDual<6>>(c.model);
+    expect_no_allocation<math::MultiDual<8>>(c.model);
+    expect_no_allocation<math::MultiDual<10>>(c.model);
+    expect_no_allocation<math::MultiDual<12>>(c.model);
   }
 }
 
@@ -195,7 +203,7 @@ TEST(NoAllocation, EmbeddingIncludingARepartition) {
 TEST(NoAllocation, SolverCallbacks) {
   for (const auto& c : cases()) {
     SCOPED_TRACE(c.name);
-    const Model m = build_model(parse_scene_text(c.text, "scene.yaml"));
+    const Model& m = c.model;
     std::vector<InputRef> refs;
     for (int i = 0; i < m.nparam() && i < 5; ++i) refs.push_back({InputRef::Kind::parameter, i, m.parameters[static_cast<std::size_t>(i)].name});
     refs.push_back({InputRef::Kind::initial_condition, 0, "q0"});
