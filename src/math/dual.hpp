@@ -69,6 +69,14 @@ template <class T> bool has_tangent(const DualT<T>& x) { return has_tangent(x.v)
 
 template <class T> DualT<T> sin(const DualT<T>& a) { using std::sin, std::cos; return {sin(a.v), cos(a.v) * a.d}; }
 template <class T> DualT<T> cos(const DualT<T>& a) { using std::sin, std::cos; return {cos(a.v), -sin(a.v) * a.d}; }
+// sin a and cos a with the value's sine and cosine taken once (the bits of sin and cos, at every
+// level of a nested dual); s and c must not alias a.
+inline void sin_cos(double a, double& s, double& c) { s = std::sin(a), c = std::cos(a); }
+template <class T> void sin_cos(const DualT<T>& a, DualT<T>& s, DualT<T>& c) {
+  sin_cos(a.v, s.v, c.v);
+  s.d = c.v * a.d;
+  c.d = -s.v * a.d;
+}
 template <class T> DualT<T> tan(const DualT<T>& a) {
   using std::tan;
   const T t = tan(a.v);

@@ -171,6 +171,14 @@ KANESENS_MD_INLINE MultiDual<N> chain(double f, double df, const MultiDual<N>& a
 
 template <int N> MultiDual<N> sin(const MultiDual<N>& a) { return multi_dual_detail::chain(std::sin(a.v), std::cos(a.v), a); }
 template <int N> MultiDual<N> cos(const MultiDual<N>& a) { return multi_dual_detail::chain(std::cos(a.v), -std::sin(a.v), a); }
+// sin a and cos a with the value's sine and cosine taken once (the bits of sin and cos); s and c
+// must not alias a.
+template <int N>
+void sin_cos(const MultiDual<N>& a, MultiDual<N>& s, MultiDual<N>& c) {
+  const double sv = std::sin(a.v), cv = std::cos(a.v);
+  s = multi_dual_detail::chain(sv, cv, a);
+  c = multi_dual_detail::chain(cv, -sv, a);
+}
 template <int N>
 MultiDual<N> tan(const MultiDual<N>& a) {
   const double t = std::tan(a.v);

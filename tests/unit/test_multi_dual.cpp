@@ -1,6 +1,7 @@
 // MultiDual<N>: every tangent equals what the single-tangent Dual gives with the same seed
 // (Dual is itself checked against finite differences and closed forms elsewhere), through
-// arithmetic, the elementary functions, Eigen products and a nested DualT for second derivatives;
+// arithmetic, the elementary functions (sin_cos bit for bit as sin and cos), Eigen products and a
+// nested DualT for second derivatives;
 // has_tangent tells constants from the rest; and rotate_constant_inertia, the position stage's
 // shortcut for an inertia without tangents, equals rotate_inertia's products.
 #include <gtest/gtest.h>
@@ -128,6 +129,30 @@ TEST(MultiDual, NestsForSecondDerivatives) {
   EXPECT_NEAR(f.d.d(0), -std::sin(0.4) * 1.69, 1e-15);         // ∂²f/∂x²
   EXPECT_NEAR(f.d.d(1), std::cos(0.4) * 2 * 1.3, 1e-15);       // ∂²f/∂x∂y
   EXPECT_EQ(kanesens::math::value_of(f), f.v.v);
+}
+
+TEST(MultiDual, SinCosIsSinAndCosBitForBit) {
+  // sin_cos shares the value's sine and cosine; every part equals what sin and cos give, at each
+  // level of DualT<MultiDual> (the nesting of a general constraint's gradient in a Jacobian pass).
+  using MD = MultiDual<4>;
+  MD x(0.7), dx(-1.3);
+  for (int k = 0; k < 4; ++k) x.set_d(k, 0.25 * k - 0.6), dx.set_d(k, 0.5 - 0.3 * k);
+  const DualT<MD> a(x, dx);
+  DualT<MD> s, c;
+  sin_cos(a, s, c);
+  const DualT<MD> s_ref = sin(a), c_ref = cos(a);
+  for (const auto& [got, want] : {std::pair{s, s_ref}, std::pair{c, c_ref}}) {
+    EXPECT_EQ(got.v.v, want.v.v);
+    EXPECT_EQ(got.d.v, want.d.v);
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_EQ(got.v.d(k), want.v.d(k)) << k;
+      EXPECT_EQ(got.d.d(k), want.d.d(k)) << k;
+    }
+  }
+  double sd, cd;
+  kanesens::math::sin_cos(0.7, sd, cd);
+  EXPECT_EQ(sd, std::sin(0.7));
+  EXPECT_EQ(cd, std::cos(0.7));
 }
 
 TEST(MultiDual, HasTangentAtAnyDepth) {

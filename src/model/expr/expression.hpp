@@ -189,10 +189,17 @@ S Expression::evaluate(const Inputs<S>& in) const {
   return st(0);
 }
 
+// sin x and cos x; the dual numbers overload it (math::sin_cos, found by argument-dependent
+// lookup) to take the value's sine and cosine once.
+template <class S>
+void sin_cos(const S& x, S& s, S& c) {
+  using std::cos, std::sin;
+  s = sin(x), c = cos(x);
+}
+
 template <class S>
 S Expression::gradient(const Inputs<S>& in, Tape<S>& tape, S* d_coordinates, S& d_time) const {
-  using std::abs, std::atan2, std::cos, std::exp, std::log, std::sin, std::sqrt, std::tan,
-      std::asin, std::acos, std::atan, std::pow;
+  using std::abs, std::atan2, std::exp, std::log, std::sqrt, std::tan, std::asin, std::acos, std::atan, std::pow;
   d_time = S(0);
   const int n = static_cast<int>(code_.size());
   if (n == 0) return S(0);
@@ -267,8 +274,11 @@ S Expression::gradient(const Inputs<S>& in, Tape<S>& tape, S* d_coordinates, S& 
         }
         break;
       }
-      case Op::sin: val[i] = sin(val[a]), pa[i] = cos(val[a]); break;
-      case Op::cos: val[i] = cos(val[a]), pa[i] = -sin(val[a]); break;
+      case Op::sin: sin_cos(val[a], val[i], pa[i]); break;
+      case Op::cos:
+        sin_cos(val[a], pa[i], val[i]);
+        pa[i] = -pa[i];
+        break;
       case Op::tan: val[i] = tan(val[a]), pa[i] = S(1) + val[i] * val[i]; break;
       case Op::asin: val[i] = asin(val[a]), pa[i] = S(1) / sqrt(S(1) - val[a] * val[a]); break;
       case Op::acos: val[i] = acos(val[a]), pa[i] = S(-1) / sqrt(S(1) - val[a] * val[a]); break;
