@@ -49,8 +49,8 @@ ConstraintSparsity::ConstraintSparsity(const Model& m) {
         break;
       case Constraint::Kind::general:
         if (c.has_position) {
-          for (int k = 0; k < n; ++k)
-            if (c.position_coordinate[static_cast<std::size_t>(k)] >= 0) touched[static_cast<std::size_t>(k)] = 1;
+          // The row's entries are ∂g/∂q_k for the coordinates g reads and zero elsewhere.
+          for (const auto& [i, k] : c.position_reads) touched[static_cast<std::size_t>(k)] = 1;
         } else {
           for (const auto& [k, a] : c.a) touched[static_cast<std::size_t>(k)] = 1;
         }

@@ -83,10 +83,10 @@ void Builder::build_constraints() {
                "the position function does not depend on any coordinate, so it constrains nothing");
         // The velocity form a_k = ∂g/∂q_k needs u = q̇ for every coordinate it reads: any
         // joint but a quaternion's components (the translation of a free joint is u = q̇).
-        c.position_coordinate.assign(m_.nu, -1);
+        std::vector<int> position_coordinate(static_cast<std::size_t>(m_.nu), -1);  // speed k → its coordinate
         for (const Joint& J : m_.joints) {
           const int rates = J.quaternion_offset < 0 ? J.nu : J.quaternion_offset - J.q_offset;
-          for (int k = 0; k < rates; ++k) c.position_coordinate[J.u_offset + k] = J.q_offset + k;
+          for (int k = 0; k < rates; ++k) position_coordinate[static_cast<std::size_t>(J.u_offset + k)] = J.q_offset + k;
           for (int k = rates; k < J.nq; ++k)
             if (c.position.uses(expr::VarKind::coordinate, J.q_offset + k))
               fail(cs.position->where, cs.position->key,
@@ -97,7 +97,7 @@ void Builder::build_constraints() {
         }
         for (int i : c.position.variables(expr::VarKind::coordinate))
           for (int k = 0; k < m_.nu; ++k)
-            if (c.position_coordinate[static_cast<std::size_t>(k)] == i) c.position_reads.emplace_back(i, k);
+            if (position_coordinate[static_cast<std::size_t>(k)] == i) c.position_reads.emplace_back(i, k);
       } else {
         for (const auto& [speed, text] : cs.a) {
           int k = -1;

@@ -92,7 +92,6 @@ struct Constraint {
   expr::Expression a0;
   bool has_position = false;
   expr::Expression position;
-  std::vector<int> position_coordinate;  // speed k → coordinate index (position form)
   std::vector<std::pair<int, int>> position_reads;  // (coordinate, its speed) for each coordinate it reads
   // rolling
   int body = -1;
