@@ -267,7 +267,27 @@ class Parser {
 
 Expression::Expression(double constant) : text_(std::to_string(constant)) {
   code_.push_back({Op::constant, VarKind::parameter, 0, constant});
+  operands_.push_back({-1, -1});
 }
+
+namespace {
+// Replays the program's stack with instruction indices: the operands of each instruction.
+std::vector<std::array<int, 2>> operands_of(const std::vector<Instruction>& code) {
+  std::vector<std::array<int, 2>> out(code.size(), {-1, -1});
+  std::vector<int> stack;
+  for (std::size_t i = 0; i < code.size(); ++i) {
+    const Op op = code[i].op;
+    if (op != Op::constant && op != Op::variable) {
+      const bool binary = op == Op::add || op == Op::sub || op == Op::mul || op == Op::div || op == Op::pow ||
+                          op == Op::atan2 || op == Op::min || op == Op::max;
+      if (binary) out[i][1] = stack.back(), stack.pop_back();
+      out[i][0] = stack.back(), stack.pop_back();
+    }
+    stack.push_back(static_cast<int>(i));
+  }
+  return out;
+}
+}  // namespace
 
 void NameTable::add(const std::string& name, VarRef ref) {
   index_.emplace(name, names_.size());  // the first entry of a name wins, as before
@@ -319,6 +339,7 @@ Expression compile(const std::string& text, const NameTable& names, const Source
   e.key_ = key;
   Parser p(text, names, where, key);
   e.code_ = p.parse(e.uses_parameters_, e.uses_state_);
+  e.operands_ = operands_of(e.code_);
   return e;
 }
 

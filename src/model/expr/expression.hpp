@@ -63,15 +63,12 @@ struct Inputs {
 };
 
 // Scratch of Expression::gradient: per instruction its value, the partials of that value with
-// respect to its (at most two) operands, the operands' instruction indices, and the adjoint.
-// Sized once for the longest program; a gradient then allocates nothing.
+// respect to its (at most two) operands, and the adjoint. Sized once for the longest program; a
+// gradient then allocates nothing.
 template <class S>
 struct Tape {
   std::vector<S> value, partial_a, partial_b, adjoint;
-  std::vector<std::array<int, 2>> operand;
-  void resize(std::size_t n) {
-    value.resize(n), partial_a.resize(n), partial_b.resize(n), adjoint.resize(n), operand.resize(n);
-  }
+  void resize(std::size_t n) { value.resize(n), partial_a.resize(n), partial_b.resize(n), adjoint.resize(n); }
   std::size_t size() const { return value.size(); }
 };
 
@@ -119,6 +116,9 @@ class Expression {
   SourceLocation where_;
   std::string key_;
   std::vector<Instruction> code_;
+  // Per instruction, the instructions whose values are its operands (−1: none): fixed by the
+  // program, so the gradient's sweeps read them instead of replaying the stack.
+  std::vector<std::array<int, 2>> operands_;
   bool uses_parameters_ = false;
   bool uses_state_ = false;
 };
@@ -207,22 +207,11 @@ S Expression::gradient(const Inputs<S>& in, Tape<S>& tape, S* d_coordinates, S& 
   S* val = tape.value.data();
   S* pa = tape.partial_a.data();
   S* pb = tape.partial_b.data();
-  std::array<int, 2>* arg = tape.operand.data();
-  // Forward: the operations of evaluate in the same order (the same value bits); the stack holds
-  // instruction indices.
-  std::array<int, kMaxStack> stack;
-  int sp = 0;
+  const std::array<int, 2>* arg = operands_.data();
+  // Forward: the operations of evaluate in the same order (the same value bits).
   for (int i = 0; i < n; ++i) {
     const Instruction& ins = code_[static_cast<std::size_t>(i)];
-    int a = -1, b = -1;
-    if (ins.op != Op::constant && ins.op != Op::variable) {
-      const bool binary = ins.op == Op::add || ins.op == Op::sub || ins.op == Op::mul || ins.op == Op::div ||
-                          ins.op == Op::pow || ins.op == Op::atan2 || ins.op == Op::min || ins.op == Op::max;
-      if (binary) b = stack[--sp];
-      a = stack[--sp];
-    }
-    arg[i] = {a, b};
-    stack[sp++] = i;
+    const auto [a, b] = arg[i];
     switch (ins.op) {
       case Op::constant: val[i] = S(ins.value); break;
       case Op::variable:
