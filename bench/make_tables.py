@@ -196,6 +196,14 @@ def sensitivity_cost_gradient():
     return driver_table("sensitivity_cost", "sensitivity_cost_gradient.json")
 
 
+def jacobian_cost_current():
+    return driver_table("jacobian_cost", "jacobian_cost_current.json")
+
+
+def sensitivity_cost_current():
+    return driver_table("sensitivity_cost", "sensitivity_cost_current.json")
+
+
 def sensitivity_corrector():
     return driver_table("sensitivity_corrector", "sensitivity_corrector.json", "summary")
 
@@ -881,6 +889,7 @@ TABLES = {
     "sensitivity_cost_arch": sensitivity_cost_arch,
     "jacobian_cost_width6": jacobian_cost_width6, "sensitivity_cost_width6": sensitivity_cost_width6,
     "jacobian_cost_gradient": jacobian_cost_gradient, "sensitivity_cost_gradient": sensitivity_cost_gradient,
+    "jacobian_cost_current": jacobian_cost_current, "sensitivity_cost_current": sensitivity_cost_current,
     "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,

@@ -2,10 +2,14 @@
 """Cost of forward sensitivities: `kanesens simulate` with and without Ns sensitivities.
 
   sensitivity_cost.py OUT.json LABEL=EXE [LABEL=EXE ...] [--runs K] [--scenes a,b] [--methods m,n]
-                      [--ns 1,2,6]
+                      [--ns 1,2,6] [--repeat R]
   sensitivity_cost.py --table OUT.json
 
 --ns: the first Ns of each scene's sensitivities, for each Ns given (default: all of them).
+--repeat R (R ≥ 2): each run integrates R times in one process (`simulate --repeat R`) and its
+time is the median of the repeats after the first: the steady cost of a sample on an ensemble
+rank, without the first solve's one-time cost of touching code and memory (which inflates a
+short plain solve far more than one with sensitivities). Without it, one solve per process.
 
 For every scene, method and executable: K runs of the plain solve and K runs with the Ns
 sensitivities, all interleaved (plain, sens, next executable, ...) so that machine load hits
@@ -77,17 +81,22 @@ GENERATED = {"chain8_spatial_scene.yaml":
              lambda: chain_scene_yaml(8, axes="z,x").replace("{name: j1, type: revolute,", "{name: j1, q0: 0.5, type: revolute,")}
 
 
-def run(exe, study, method, sens, extra):
+def run(exe, study, method, sens, extra, repeat=1):
     args = [exe, "simulate", study, "--set", f"solver.method={method}", "--sens", sens] + extra
+    if repeat > 1:
+        args += ["--repeat", str(repeat)]
     p = subprocess.run(args, capture_output=True, text=True)
     d = json.loads(p.stdout)
     if d["status"] != 1:
         raise RuntimeError(f"{exe} {method} {sens}: {d.get('message')}")
+    if repeat > 1:
+        return statistics.median(d["stats"]["wall_seconds_repeats"][1:]), d["stats"]
     return d["stats"]["wall_seconds"], d["stats"]
 
 
-def measure(out, exes, runs, scenes, extra, methods_only=None, counts=None):
-    result = {"command": "/usr/bin/python3 bench/sensitivity_cost.py " + " ".join(sys.argv[1:]), "runs": runs, "rows": []}
+def measure(out, exes, runs, scenes, extra, methods_only=None, counts=None, repeat=1):
+    result = {"command": "/usr/bin/python3 bench/sensitivity_cost.py " + " ".join(sys.argv[1:]), "runs": runs,
+              "repeat": repeat, "rows": []}
     with tempfile.TemporaryDirectory() as tmp:
         for file, make in GENERATED.items():
             with open(os.path.join(tmp, file), "w") as f:
@@ -105,7 +114,7 @@ def measure(out, exes, runs, scenes, extra, methods_only=None, counts=None):
                 for _ in range(runs):
                     for label, exe in exes:
                         for kind, s in (("plain", "none"), ("sens", sens)):
-                            w, st = run(exe, study, method, s, extra)
+                            w, st = run(exe, study, method, s, extra, repeat)
                             times[label][kind].append(w)
                             stats[(label, kind)] = st
                 for label, _ in exes:
@@ -126,7 +135,9 @@ def per_added(row, pick=min):
 
 def table(path):
     r = load_json(path)
-    print(f"Minimum (median) of {r['runs']} interleaved runs; per added sensitivity = "
+    steady = (f", each the median of {r['repeat'] - 1} repeated solves after the first in one process"
+              if r.get("repeat", 1) > 1 else "")
+    print(f"Minimum (median) of {r['runs']} interleaved runs{steady}; per added sensitivity = "
           "(t_sens − t_plain) / (Ns · t_plain).\n")
     print("| scene | method | build | Ns | plain solve (ms) | with Ns sensitivities (ms) | per added sensitivity | steps plain / sens |")
     print("|---|---|---|---:|---:|---:|---:|---:|")
@@ -140,7 +151,7 @@ def table(path):
 if __name__ == "__main__":
     argv = sys.argv[1:]
     table_or_usage(argv, table, __doc__)
-    runs, scenes, extra, methods, counts = 7, list(SCENES), [], None, None
+    runs, scenes, extra, methods, counts, repeat = 7, list(SCENES), [], None, None, 1
     out, rest = argv[0], []
     i = 1
     while i < len(argv):
@@ -152,10 +163,12 @@ if __name__ == "__main__":
             methods = argv[i + 1].split(","); i += 2
         elif argv[i] == "--ns":
             counts = [int(k) for k in argv[i + 1].split(",")]; i += 2
+        elif argv[i] == "--repeat":
+            repeat = int(argv[i + 1]); i += 2
         elif argv[i] == "--set":
             extra += ["--set", argv[i + 1]]; i += 2
         else:
             rest.append(argv[i]); i += 1
     exes = [tuple(a.split("=", 1)) for a in rest]
-    measure(out, exes, runs, scenes, extra, methods, counts)
+    measure(out, exes, runs, scenes, extra, methods, counts, repeat)
     table(out)
