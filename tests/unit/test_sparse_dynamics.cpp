@@ -7,9 +7,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
+
+#include <Eigen/Eigenvalues>
 
 #include "dynamics/embedding.hpp"
 #include "dynamics/equations.hpp"
@@ -293,7 +296,18 @@ TEST(SparseDynamics, BranchedTreeSparseEqualsDense) {
     // The tangents of u̇ go through M⁻¹ twice (u̇' = M⁻¹(f' − M' u̇)), so their round-off is
     // larger than the values'.
     const std::string what = "branched tree, state " + std::to_string(s);
-    expect_paths_agree<double>(m, y, s, 1e-11, what);
+    // Two factorisations of M (tree and dense) agree to round-off amplified by M's condition
+    // number (about 2e4 at these states): allow 10 κ(M) ε, which the ordering of the vectorised
+    // sums of a build for AVX-512 approaches (3 κ ε at one state).
+    Workspace<double> w(m);
+    std::vector<double> ydot(y.size());
+    dynamics::set_parameters(m, w, m.nominal_parameters().data());
+    ASSERT_TRUE(dynamics::evaluate_rhs(m, w, 0.3, y.data(), ydot.data()));
+    const Eigen::VectorXd eig = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(w.mass_matrix).eigenvalues();
+    const double condition = eig.maxCoeff() / eig.minCoeff();
+    ASSERT_LT(condition, 1e6) << what;
+    const double tol = 10 * condition * std::numeric_limits<double>::epsilon();
+    expect_paths_agree<double>(m, y, s, tol, what);
     expect_paths_agree<Dual>(m, y, s, 1e-10, what + " (Dual)");
     expect_paths_agree<MultiDual<8>>(m, y, s, 1e-10, what + " (MultiDual<8>)");
   }
