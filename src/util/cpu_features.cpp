@@ -1,12 +1,11 @@
 // The instruction-set extensions this build's code may use, from the compiler's predefined
 // macros at the build's -march. Data only: util/instruction_set.cpp, compiled for the
 // architecture's baseline, reads it to check the processor before anything else runs.
-#include "util/version.hpp"
-
 namespace kanesens::detail {
 
-// The common extensions a processor can lack (names as __builtin_cpu_supports spells them): a
-// -march that enables a rarer one can still stop at an illegal instruction.
+// The common extensions a processor can lack (names as __builtin_cpu_supports spells them, each
+// also in instruction_set.cpp's known_features): a -march that enables a rarer one can still stop
+// at an illegal instruction.
 extern const char* const compiled_cpu_features[];
 const char* const compiled_cpu_features[] = {
 #ifdef __SSE3__

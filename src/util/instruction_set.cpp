@@ -44,7 +44,7 @@ constexpr Feature known_features[] = {
 bool supported(const char* name) {
   for (const Feature& f : known_features)
     if (same(f.name, nullptr, name)) return f.supported();
-  return true;  // not one this check knows
+  return true;  // not one this check knows (util/cpu_features.cpp lists only known ones)
 }
 
 // Whether `name` is in the space-separated list KANESENS_CPU_FEATURES_MASKED, which makes the
@@ -99,13 +99,11 @@ std::string instruction_set() {
   const std::string arch = KANESENS_ARCH;
   if (arch.empty()) return "the compiler's baseline";
   std::string text = "-march=" + arch;
-  const char* separator = " (";
-  for (const char* const* name = detail::compiled_cpu_features; *name != nullptr; ++name) {
-    text.append(separator).append(*name);
-    separator = " ";
-  }
-  if (separator[0] == ' ' && separator[1] == '\0') text.append(")");
-  return text;
+  const char* const* name = detail::compiled_cpu_features;
+  if (*name == nullptr) return text;
+  text.append(" (").append(*name);
+  while (*++name != nullptr) text.append(" ").append(*name);
+  return text.append(")");
 }
 
 }  // namespace kanesens
