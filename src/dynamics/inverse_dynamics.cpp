@@ -9,6 +9,7 @@
 #include "math/dual2.hpp"
 #include "math/multi_dual.hpp"
 #include "dynamics/equations.hpp"
+#include "dynamics/force_elements.hpp"
 #include "dynamics/tree_factor.hpp"
 
 namespace kanesens::dynamics {
@@ -72,6 +73,87 @@ void evaluate_residual(const Model& m, Workspace<S>& ws, const S& t, const S* y,
     if (multipliers)
       for (int k = 0; k < m.nu; ++k) r[k] += ws.constraint_matrix(j, k) * multipliers[j];
   }
+}
+
+namespace {
+// Subtree sums of the bodies' wrenches at their joint points, leaves to roots.
+template <class S>
+void sum_over_subtrees(const Model& m, Workspace<S>& ws) {
+  for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
+    const Joint& J = m.joints[*it];
+    if (J.parent >= 0) math::add_force_to_parent<S>(ws.wrench[J.child], ws.joint_offset[*it], ws.wrench[J.parent]);
+  }
+}
+
+// Speed k's generalized force from its subtree's wrench F: s_k · F (s_k = (a, 0) or (0, a)).
+template <class S>
+S projected(const Vec6<S>& s, bool rotation, const Vec6<S>& F) {
+  return rotation ? S(s[0] * F[0] + s[1] * F[1] + s[2] * F[2]) : S(s[3] * F[3] + s[4] * F[4] + s[5] * F[5]);
+}
+}  // namespace
+
+template <class S>
+void evaluate_residual_at_rest(const Model& m, Workspace<S>& ws, const S& t, const S* y,
+                               const DynamicsOptions& options, S* out, S* constraint_out) {
+  const S* q = y;
+  const S* u = y + m.nq;
+  evaluate_state_expressions(m, ws, t, q, u);
+  compute_position(m, ws, q);
+  compute_velocity(m, ws, u);
+  compute_kinematic_derivatives(m, ws, q, u);
+  if (m.nconstraint_rows > 0) compute_constraints(m, ws, q, u, options);
+  compute_body_wrenches(m, ws);
+  for (int k = 0; k < m.nu; ++k) ws.forcing[k] = S(0);
+  detail::add_joint_spring_dampers(m, ws, q, u);
+  for (int i = 0; i < m.nq; ++i) out[i] = ws.qdot[i];
+  for (int j = 0; j < m.nconstraint_rows; ++j) constraint_out[j] = -ws.constraint_bias[j];
+}
+
+template <class S>
+void forcing_values(const Model& m, const Workspace<S>& ws, Workspace<double>& wd, double* f) {
+  for (int b = 0; b < m.nbody(); ++b)
+    for (int i = 0; i < 6; ++i) wd.wrench[b][i] = value_of(ws.wrench[b][i]);
+  sum_over_subtrees(m, wd);
+  for (const Joint& J : m.joints)
+    for (int k = J.u_offset; k < J.u_offset + J.nu; ++k)
+      f[k] = projected(wd.partial[k], J.speeds[k - J.u_offset].rotation, wd.wrench[J.child]) + value_of(ws.forcing[k]);
+}
+
+template <class S>
+void residual_from_rest(const Model& m, Workspace<S>& ws, const double* udot, S* r, S* constraint_out) {
+  // The bodies' accelerations from u̇ alone, carried from parent to child as add_acceleration does,
+  // in the bias accelerations' slots (the stages that read those are done).
+  for (int ji : m.joint_order) {
+    const Joint& J = m.joints[ji];
+    Vec6<S>& a = ws.bias_acceleration[J.child];
+    if (J.parent >= 0) a = math::motion_to_child<S>(ws.bias_acceleration[J.parent], ws.joint_offset[ji]);
+    else a.setZero();
+    for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) {
+      if (J.speeds[k - J.u_offset].rotation) a.template head<3>() += ws.partial[k].template head<3>() * udot[k];
+      else a.template tail<3>() += ws.partial[k].template tail<3>() * udot[k];
+    }
+  }
+  for (int b = 0; b < m.nbody(); ++b) {
+    // W − I a, I a = (I ω̇ + h × a_Q, m a_Q − h × ω̇) at Q (compute_body_wrenches' momentum, on
+    // accelerations).
+    const SpatialInertia<S>& I = ws.spatial_inertia[b];
+    const S* A = ws.bias_acceleration[b].data();
+    S* W = ws.wrench[b].data();
+    const S l0 = A[0], l1 = A[1], l2 = A[2], a0 = A[3], a1 = A[4], a2 = A[5];
+    const S h0 = I.h[0], h1 = I.h[1], h2 = I.h[2];
+    W[0] -= I.I(0, 0) * l0 + I.I(0, 1) * l1 + I.I(0, 2) * l2 + (h1 * a2 - h2 * a1);
+    W[1] -= I.I(0, 1) * l0 + I.I(1, 1) * l1 + I.I(1, 2) * l2 + (h2 * a0 - h0 * a2);
+    W[2] -= I.I(0, 2) * l0 + I.I(1, 2) * l1 + I.I(2, 2) * l2 + (h0 * a1 - h1 * a0);
+    W[3] -= I.m * a0 - (h1 * l2 - h2 * l1);
+    W[4] -= I.m * a1 - (h2 * l0 - h0 * l2);
+    W[5] -= I.m * a2 - (h0 * l1 - h1 * l0);
+  }
+  sum_over_subtrees(m, ws);
+  for (const Joint& J : m.joints)
+    for (int k = J.u_offset; k < J.u_offset + J.nu; ++k)
+      r[k] = projected(ws.partial[k], J.speeds[k - J.u_offset].rotation, ws.wrench[J.child]) + ws.forcing[k];
+  for (int j = 0; j < m.nconstraint_rows; ++j)
+    for (int k = 0; k < m.nu; ++k) constraint_out[j] += ws.constraint_matrix(j, k) * udot[k];
 }
 
 template <class S>
@@ -165,6 +247,10 @@ void AccelerationTangents::solve(const Model& m, Workspace<double>& ws, S* x, S*
 #define KANESENS_INSTANTIATE(S)                                                                            \
   template void evaluate_residual<S>(const Model&, Workspace<S>&, const S&, const S*, const double*,       \
                                      const double*, const DynamicsOptions&, S*, S*);                     \
+  template void evaluate_residual_at_rest<S>(const Model&, Workspace<S>&, const S&, const S*,               \
+                                             const DynamicsOptions&, S*, S*);                            \
+  template void forcing_values<S>(const Model&, const Workspace<S>&, Workspace<double>&, double*);      \
+  template void residual_from_rest<S>(const Model&, Workspace<S>&, const double*, S*, S*);               \
   template bool factor_mass_matrix_values<S>(const Model&, const Workspace<S>&, Workspace<double>&);  \
   template void AccelerationTangents::solve<S>(const Model&, Workspace<double>&, S*, S*) const;
 KANESENS_FOR_EACH_DYNAMICS_SCALAR(KANESENS_INSTANTIATE)

@@ -28,6 +28,23 @@ template <class S>
 void evaluate_residual(const Model& m, Workspace<S>& ws, const S& t, const S* y, const double* udot,
                        const double* multipliers, const DynamicsOptions& options, S* out, S* constraint_out);
 
+// The same residual in two parts, so that one pass gives f, then u̇ on values, then the residual
+// at that u̇ without repeating the stages that do not depend on u̇ (3-D path only):
+//   evaluate_residual_at_rest   the stages at u̇ = 0: out[0, nq) = q̇, constraint_out = −b, each
+//                               body's applied minus inertial wrench at u̇ = 0 in ws.wrench (not
+//                               yet summed over subtrees), the joints' own forces in ws.forcing;
+//   forcing_values              f on values from them (wd: factor_mass_matrix_values's, at the
+//                               same pass);
+//   residual_from_rest          r = f − M u̇ (nu) and c += A u̇ at u̇ (values): the bodies'
+//                               accelerations from u̇ alone, W − I a, then the subtree sums.
+template <class S>
+void evaluate_residual_at_rest(const Model& m, Workspace<S>& ws, const S& t, const S* y,
+                               const DynamicsOptions& options, S* out, S* constraint_out);
+template <class S>
+void forcing_values(const Model& m, const Workspace<S>& ws, Workspace<double>& wd, double* f);
+template <class S>
+void residual_from_rest(const Model& m, Workspace<S>& ws, const double* udot, S* r, S* constraint_out);
+
 // wd ← the values of ws's position stage and constraint matrix (ws evaluated at a state on any
 // scalar), then M and its factor there on doubles, as solve_accelerations leaves them. False if M
 // is not positive definite.

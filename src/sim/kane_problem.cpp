@@ -31,6 +31,7 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       acceleration_tangents_(model),
       residual_value_(static_cast<std::size_t>(model.nu)),
       jacobian_multipliers_(static_cast<std::size_t>(model.nconstraint_rows)),
+      fused_constraint_value_(static_cast<std::size_t>(model.nconstraint_rows)),
       u_full_(static_cast<std::size_t>(model.nu)),
       s_full_(static_cast<std::size_t>(model.nstate())) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
@@ -369,14 +370,65 @@ bool KaneProblem::residual_sensitivities(double t, const double* y, const double
   return ok;
 }
 
+bool KaneProblem::fused_residual_sensitivities(double t, const double* y, const double* const* s, double* ydot,
+                                               double* const* sdot) {
+  if (model_.evaluate_planar()) return false;
+  const int n = size();
+  bool first = true, ok = true;
+  sensitivity_blocks_.for_each([&](auto& b) {
+    if (!ok) return;
+    for (int r = 0; r < n; ++r) {
+      b.y[r].v = y[r];
+      b.y[r].set_tangents([&](int i) { return s[b.first + i][r]; }, b.count);
+    }
+    ok = first ? fused_residual_pass(b.ws, t, b.y.data(), ydot, b.ydot.data(), b.constraint_residual.data())
+               : residual_pass(b.ws, t, b.y.data(), ydot, b.ydot.data(), b.constraint_residual.data(), false);
+    first = false;
+    if (!ok) return;
+    for (int i = 0; i < b.count; ++i)
+      for (int r = 0; r < n; ++r) sdot[b.first + i][r] = b.ydot[r].d(i);
+  });
+  if (ok) last_sensitivity_method_ = DerivativeMethod::residual;
+  return ok;
+}
+
+template <class S>
+bool KaneProblem::fused_residual_pass(Workspace<S>& ws, double t, const S* y, double* ydot, S* out, S* c) {
+  Workspace<double>& wd = jacobian_values_;
+  const int nq = model_.nq, nu = model_.nu, nc = model_.nconstraint_rows;
+  double* udot = ydot + nq;
+  double* b = fused_constraint_value_.data();
+  dynamics::evaluate_residual_at_rest(model_, ws, S(t), y, dynamics_, out, c);  // c = −b
+  if (!dynamics::factor_mass_matrix_values(model_, ws, wd) || !acceleration_tangents_.prepare(model_, wd)) return false;
+  // M u̇ − Aᵀλ = f, A u̇ = b on values.
+  dynamics::forcing_values(model_, ws, wd, udot);
+  for (int j = 0; j < nc; ++j) b[j] = math::value_of(c[j]);
+  acceleration_tangents_.solve(model_, wd, udot, b);
+  for (int i = 0; i < nq; ++i) ydot[i] = math::value_of(out[i]);
+  dynamics::residual_from_rest(model_, ws, udot, out + nq, c);
+  // From here as residual_pass at this u̇ (a non-finite f fails the check, and rhs() reports it).
+  S* du = out + nq;  // f − M u̇
+  double* lambda = jacobian_multipliers_.data();
+  for (int k = 0; k < nu; ++k) residual_value_[static_cast<std::size_t>(k)] = math::value_of(du[k]);
+  acceleration_tangents_.multipliers(model_, wd, residual_value_.data(), lambda);
+  if (!residual_vanishes(c, udot)) return false;
+  for (int j = 0; j < nc; ++j)
+    for (int k = 0; k < nu; ++k) du[k] += ws.constraint_matrix(j, k) * lambda[j];
+  acceleration_tangents_.solve(model_, wd, du, c);
+  return true;
+}
+
 // f is the value part of the first whole sensitivity pass, or the residual passes' own f.
 void KaneProblem::rhs_with_sensitivities(double t, const double* y, int ns, const double* const* s, double* ydot,
                                          double* const* sdot) {
+  last_f_from_sensitivity_pass_ = false;
   if (ns == 0) {
     rhs(t, y, ydot);
     return;
   }
   if (!single_tangent() && !embedded_ && sensitivity_method_ == DerivativeMethod::residual) {
+    last_f_from_sensitivity_pass_ = fused_residual_sensitivities(t, y, s, ydot, sdot);
+    if (last_f_from_sensitivity_pass_) return;
     rhs(t, y, ydot);
     last_sensitivity_method_ = DerivativeMethod::whole_rhs;
     if (residual_sensitivities(t, y, ydot, s, sdot)) return;

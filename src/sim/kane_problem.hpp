@@ -83,9 +83,13 @@ class KaneProblem final : public OdeProblem {
   // (else whole_rhs). The default is residual on the 3-D path, whose whole pass forms and
   // factors M on the tangent scalar (bench/results/sensitivity_cost_residual.json), and
   // whole_rhs on the planar path, where the residual passes were not measured faster. Where
-  // ydot is not given (DOP853's stages) the residual method first evaluates f(t, y) on values.
+  // ydot is not given (DOP853's stages) the residual method on the 3-D path takes f(t, y) from
+  // its own first pass (fused_residual_sensitivities); elsewhere it first evaluates f on values.
   void set_sensitivity_method(DerivativeMethod method) { sensitivity_method_ = method; }
   DerivativeMethod last_sensitivity_method() const { return last_sensitivity_method_; }
+  // Whether the last rhs_with_sensitivities took f from its residual passes (3-D path, residual
+  // method, where it applies) rather than from a separate evaluation of the right-hand side.
+  bool last_f_from_sensitivity_pass() const { return last_f_from_sensitivity_pass_; }
   // J v from one pass of the right-hand side on Dual with tangent v on y (no parameter tangent):
   // the same equations, constraint paths and partition as rhs(). (The residual form of
   // jacobian() does not pay here: with one tangent, forming M's value factor per product costs
@@ -227,6 +231,19 @@ class KaneProblem final : public OdeProblem {
   bool residual_pass(dynamics::Workspace<S>& ws, double t, const S* y, const double* ydot, S* out, S* c, bool factor);
   template <class S>
   bool residual_vanishes(const S* c, const double* udot) const;
+  // DOP853's stages (f not given): f and the sensitivity right-hand sides from the residual
+  // passes alone, the first of them at u̇ = 0 (fused_residual_pass). False (ydot and sdot then
+  // hold no result) where the residual form does not apply, or on the planar path.
+  bool fused_residual_sensitivities(double t, const double* y, const double* const* s, double* ydot,
+                                    double* const* sdot);
+  // The first pass of fused_residual_sensitivities: the stages at u̇ = 0 give f on values
+  // (dynamics::forcing_values), then u̇ and λ with M's factor from the same pass;
+  // residual_from_rest completes the residual at u̇, and the rest is residual_pass's. ydot gets
+  // f(t, y).
+  template <class S>
+  bool fused_residual_pass(dynamics::Workspace<S>& ws, double t, const S* y, double* ydot, S* out, S* c);
+  std::vector<double> fused_constraint_value_;  // m: −b, then scratch of the value solve
+  bool last_f_from_sensitivity_pass_ = false;
   template <int W>
   void evaluate_block(TangentBlock<W>& b, double t);
   // Few sensitivities: one Dual pass each costs less than a block of the narrowest compiled

@@ -17,6 +17,8 @@
 #include <utility>
 #include <vector>
 
+#include "dynamics/equations.hpp"
+#include "dynamics/inverse_dynamics.hpp"
 #include "model/build_model.hpp"
 #include "model/scene/parse_scene.hpp"
 #include "sim/kane_problem.hpp"
@@ -249,7 +251,11 @@ TEST(ResidualSensitivities, MatchWholeRhsPasses) {
     EXPECT_EQ(p.last_sensitivity_method(), Method::residual);
     const auto res_f = run(true, &f_res);
     EXPECT_EQ(p.last_sensitivity_method(), Method::residual);
-    EXPECT_EQ(f_res, ydot) << "DOP853's f by the residual method is rhs()'s";
+    EXPECT_EQ(p.last_f_from_sensitivity_pass(), !m.evaluate_planar()) << "f from the residual pass on the 3-D path";
+    // DOP853's f by the residual method comes from the pass's own f and M's value factor (not
+    // from rhs()): the same to round-off.
+    for (std::size_t r = 0; r < ydot.size(); ++r)
+      EXPECT_NEAR(f_res[r], ydot[r], 1e-13 * std::max(1.0, max_abs(ydot))) << "DOP853's f, entry " << r;
     double err = 0, err_f = 0, scale = 1;
     for (std::size_t i = 0; i < s.size(); ++i) {
       scale = std::max(scale, max_abs(whole[i]));
@@ -271,6 +277,67 @@ TEST(ResidualSensitivities, MatchWholeRhsPasses) {
     EXPECT_EQ(fresh.last_sensitivity_method(), c.default_method);
     std::printf("%s: residual sensitivity rhs vs whole %.2e (from DOP853's call %.2e), %d sensitivities\n",
                 c.scene.c_str(), err / scale, err_f / scale, ns);
+  }
+}
+
+// DOP853's stages take f from the residual pass itself: the stages at u̇ = 0
+// (evaluate_residual_at_rest), f on values from them (forcing_values), then the residual at u̇
+// (residual_from_rest). That must be evaluate_residual at u̇ to round-off; f must be
+// evaluate_mass_matrix_and_forcing's, and f − r must be M u̇ with M from the composite-rigid-body
+// recursion (trees, quaternions, rolling, general and loop constraints with Baumgarte terms).
+TEST(ResidualFromRest, IsTheResidualAtUdot) {
+  const std::vector<std::pair<std::string, Model>> scenes = {
+      {"arm_3d", load("configs/arm_3d.yaml")},
+      {"spinning_top", load("configs/spinning_top.yaml")},
+      {"rolling_disc", load("configs/rolling_disc.yaml")},
+      {"andrews", load("configs/andrews.yaml")},
+      {"four_bar", load("configs/four_bar.yaml")},
+      {"tilted chain of 8", build_model(parse_scene_text(test_scenes::chain_scene(8, 0.1), "chain.yaml"))}};
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> uni(-1, 1);
+  DynamicsOptions options;
+  options.baumgarte_alpha = 3, options.baumgarte_beta = 2;
+  for (const auto& [name, model] : scenes) {
+    SCOPED_TRACE(name);
+    Model m = model;
+    m.force_general_3d = true;  // the 3-D path, which the fused pass takes
+    const int nq = m.nq, nu = m.nu, nc = m.nconstraint_rows;
+    Workspace<double> ws(m), wd(m);
+    const std::vector<double> p = m.nominal_parameters();
+    set_parameters(m, ws, p.data());
+    for (int trial = 0; trial < 3; ++trial) {
+      std::vector<double> y(static_cast<std::size_t>(m.nstate())), udot(static_cast<std::size_t>(nu));
+      for (double& v : y) v = uni(rng);
+      for (double& v : udot) v = 3 * uni(rng);
+      std::vector<double> at(y.size()), moved(y.size()), c_at(static_cast<std::size_t>(nc)), c_moved(c_at);
+      std::vector<double> f(static_cast<std::size_t>(nu));
+      evaluate_residual(m, ws, 0.2, y.data(), udot.data(), nullptr, options, at.data(), c_at.data());
+      evaluate_residual_at_rest(m, ws, 0.2, y.data(), options, moved.data(), c_moved.data());
+      const std::vector<double> minus_b = c_moved;
+      ASSERT_TRUE(factor_mass_matrix_values(m, ws, wd));
+      forcing_values(m, ws, wd, f.data());
+      residual_from_rest(m, ws, udot.data(), moved.data() + nq, c_moved.data());
+      evaluate_mass_matrix_and_forcing(m, ws, 0.2, y.data(), y.data() + nq);
+      double scale = 1;
+      for (double v : at) scale = std::max(scale, std::abs(v));
+      for (double v : f) scale = std::max(scale, std::abs(v));
+      for (int k = 0; k < nq; ++k) EXPECT_EQ(moved[k], at[k]) << "q̇ " << k;
+      for (int k = 0; k < nu; ++k) {
+        double Mu = 0;
+        for (int l = 0; l < nu; ++l) {
+          Mu += ws.mass_matrix(k, l) * udot[static_cast<std::size_t>(l)];
+          scale = std::max(scale, std::abs(ws.mass_matrix(k, l) * udot[static_cast<std::size_t>(l)]));
+        }
+        EXPECT_NEAR(moved[nq + k], at[nq + k], 1e-13 * scale) << "r " << k;
+        EXPECT_NEAR(f[k] - moved[nq + k], Mu, 1e-13 * scale) << "M u̇ " << k;
+        EXPECT_NEAR(f[k], ws.forcing[k], 1e-13 * scale) << "f " << k;
+      }
+      for (int j = 0; j < nc; ++j) {
+        double cscale = std::abs(minus_b[j]);
+        for (int k = 0; k < nu; ++k) cscale = std::max(cscale, std::abs(ws.constraint_matrix(j, k) * udot[static_cast<std::size_t>(k)]));
+        EXPECT_NEAR(c_moved[j], c_at[j], 1e-13 * std::max(1.0, cscale)) << "c " << j;
+      }
+    }
   }
 }
 

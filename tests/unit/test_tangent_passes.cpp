@@ -162,7 +162,12 @@ TEST(TangentPasses, JacobianAndSensitivitiesMatchSingleTangentPasses) {
                                        all[static_cast<std::size_t>(i)][static_cast<std::size_t>(r)]));
     }
     EXPECT_LT(ferr / fscale, 1e-13) << "f of rhs_with_sensitivities";
-    EXPECT_EQ(serr, 0.0) << "sensitivities of rhs_with_sensitivities";
+    // On the 3-D path with the residual method, f comes from the same pass (at u̇ = 0, then moved
+    // to u̇): the sensitivities agree to round-off, no longer bit for bit.
+    double sscale = 1;
+    for (const auto& v : all)
+      for (double x : v) sscale = std::max(sscale, std::abs(x));
+    EXPECT_LT(serr / sscale, 1e-13) << "sensitivities of rhs_with_sensitivities";
   }
 }
 
