@@ -318,6 +318,7 @@ std::vector<Case> study_cases() {
       {"StudySetUnknownParameter", Kind::study, s, {"--set m9", "'m9' is neither a parameter", "did you mean 'm'"}, {"m9=2"}},
       {"StudySetNotAssignment", Kind::study, s, {"--set", "expected NAME=VALUE"}, {"m"}},
       {"StudySetNotNumber", Kind::study, s, {"--set m", "expected a number"}, {"m=heavy"}},
+      {"StudySetSettingWithoutSection", Kind::study, s, {"--set sensitivity.error_control", "expected a number", "under time, solver or sampling", "solver.sensitivity.error_control=false"}, {"sensitivity.error_control=false"}},
       {"StudySetNan", Kind::study, s, {"--set m", "finite"}, {"m=nan"}},
       {"StudySetZeroMass", Kind::study, s, {"mass must be > 0"}, {"m=0"}},
       {"StudySetBadSetting", Kind::study, s, {"sampling.samples", "expected an integer in [1,"}, {"sampling.samples=0"}},
