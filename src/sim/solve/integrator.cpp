@@ -109,9 +109,10 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
   ctx = make_context();
   y = make_serial_vector(n_states, ctx.get());
   N_VConst(0.0, y.get());
-  // Fused vector operations: CVODES updates the Ns sensitivity vectors with one call per
-  // operation instead of one per vector (the clones below inherit this).
-  check_flag(N_VEnableFusedOps_Serial(y.get(), SUNTRUE), "N_VEnableFusedOps_Serial");
+  // y's operations are the compiled ones, fused and vector-array operations included
+  // (make_serial_vector, sim/solve/serial_vector_ops.hpp): CVODES updates the Ns sensitivity
+  // vectors with one call per operation instead of one per vector, and the clones below and
+  // CVODES's own inherit them.
 
   // create → init
   mem = make_cvode(o.method == Method::bdf ? CV_BDF : CV_ADAMS, ctx.get());

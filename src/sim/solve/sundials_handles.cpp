@@ -2,6 +2,7 @@
 
 #include <cvodes/cvodes_ls.h>
 #include "sim/solve/dense_lu_solver.hpp"
+#include "sim/solve/serial_vector_ops.hpp"
 #include <sunlinsol/sunlinsol_spgmr.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
@@ -58,7 +59,9 @@ ContextPtr make_context() {
 NVectorPtr make_serial_vector(int n, SUNContext ctx) {
   N_Vector v = N_VNew_Serial(n, ctx);
   check_ptr(v, "N_VNew_Serial");
-  return NVectorPtr(v);
+  NVectorPtr owned(v);
+  use_compiled_serial_ops(v);
+  return owned;
 }
 
 MatrixPtr make_dense_matrix(int n, SUNContext ctx) {
