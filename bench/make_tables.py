@@ -208,6 +208,10 @@ def sensitivity_cost_fused():
     return driver_table("sensitivity_cost", "sensitivity_cost_fused.json")
 
 
+def sensitivity_cost_vector_ops():
+    return driver_table("sensitivity_cost", "sensitivity_cost_vector_ops.json")
+
+
 def sensitivity_cost_no_error_control():
     return driver_table("sensitivity_cost", "sensitivity_cost_no_error_control.json")
 
@@ -898,7 +902,7 @@ TABLES = {
     "jacobian_cost_width6": jacobian_cost_width6, "sensitivity_cost_width6": sensitivity_cost_width6,
     "jacobian_cost_gradient": jacobian_cost_gradient, "sensitivity_cost_gradient": sensitivity_cost_gradient,
     "jacobian_cost_current": jacobian_cost_current, "sensitivity_cost_current": sensitivity_cost_current,
-    "sensitivity_cost_fused": sensitivity_cost_fused, "sensitivity_cost_no_error_control": sensitivity_cost_no_error_control,
+    "sensitivity_cost_fused": sensitivity_cost_fused, "sensitivity_cost_vector_ops": sensitivity_cost_vector_ops, "sensitivity_cost_no_error_control": sensitivity_cost_no_error_control,
     "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,
