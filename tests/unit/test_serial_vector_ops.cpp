@@ -7,6 +7,7 @@
 
 #include <nvector/nvector_serial.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -83,7 +84,8 @@ TEST(SerialVectorOps, SameBitsAsSundials) {
   for (sunindextype n : {1, 7, 10, 33}) {
     SCOPED_TRACE("length " + std::to_string(n));
     Pools p(n);
-    for (const auto& [a, b] : coefficients) {
+    for (const auto& coefficient : coefficients) {
+      const double a = coefficient.first, b = coefficient.second;
       const std::string ab = " a " + std::to_string(a) + " b " + std::to_string(b);
       // z distinct, z = x, z = y.
       for (int z : {2, 0, 1})
