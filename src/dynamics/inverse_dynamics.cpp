@@ -15,6 +15,22 @@
 namespace kanesens::dynamics {
 
 namespace {
+// The bodies' accelerations from u̇ alone (3-D path), into a[body]: carried from parent to child
+// as a velocity is, plus each joint's Σ s_k u̇_k.
+template <class S, class Slots>
+void accelerations_of(const Model& m, const Workspace<S>& ws, const double* udot, Slots& a) {
+  for (int ji : m.joint_order) {
+    const Joint& J = m.joints[ji];
+    Vec6<S>& ac = a[J.child];
+    if (J.parent >= 0) ac = math::motion_to_child<S>(a[J.parent], ws.joint_offset[ji]);
+    else ac.setZero();
+    for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) {
+      if (J.speeds[k - J.u_offset].rotation) ac.template head<3>() += ws.partial[k].template head<3>() * udot[k];
+      else ac.template tail<3>() += ws.partial[k].template tail<3>() * udot[k];
+    }
+  }
+}
+
 // The bias accelerations of compute_velocity (u̇ = 0) plus the part of u̇: the accelerations of the
 // bodies at u̇. That part is carried from parent to child as a velocity is; the wrench arrays,
 // which compute_forcing overwrites, hold it on the way.
@@ -35,16 +51,7 @@ void add_acceleration(const Model& m, Workspace<S>& ws, const double* udot) {
     for (int b = 0; b < m.nbody(); ++b) ws.bias_planar[b] += ws.wrench_planar[b];
     return;
   }
-  for (int ji : m.joint_order) {
-    const Joint& J = m.joints[ji];
-    Vec6<S>& a = ws.wrench[J.child];
-    if (J.parent >= 0) a = math::motion_to_child<S>(ws.wrench[J.parent], ws.joint_offset[ji]);
-    else a.setZero();
-    for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) {
-      if (J.speeds[k - J.u_offset].rotation) a.template head<3>() += ws.partial[k].template head<3>() * udot[k];
-      else a.template tail<3>() += ws.partial[k].template tail<3>() * udot[k];
-    }
-  }
+  accelerations_of(m, ws, udot, ws.wrench);
   for (int b = 0; b < m.nbody(); ++b) ws.bias_acceleration[b] += ws.wrench[b];
 }
 }  // namespace
@@ -121,18 +128,9 @@ void forcing_values(const Model& m, const Workspace<S>& ws, Workspace<double>& w
 
 template <class S>
 void residual_from_rest(const Model& m, Workspace<S>& ws, const double* udot, S* r, S* constraint_out) {
-  // The bodies' accelerations from u̇ alone, carried from parent to child as add_acceleration does,
-  // in the bias accelerations' slots (the stages that read those are done).
-  for (int ji : m.joint_order) {
-    const Joint& J = m.joints[ji];
-    Vec6<S>& a = ws.bias_acceleration[J.child];
-    if (J.parent >= 0) a = math::motion_to_child<S>(ws.bias_acceleration[J.parent], ws.joint_offset[ji]);
-    else a.setZero();
-    for (int k = J.u_offset; k < J.u_offset + J.nu; ++k) {
-      if (J.speeds[k - J.u_offset].rotation) a.template head<3>() += ws.partial[k].template head<3>() * udot[k];
-      else a.template tail<3>() += ws.partial[k].template tail<3>() * udot[k];
-    }
-  }
+  // The bodies' accelerations from u̇ alone, in the bias accelerations' slots (the stages that
+  // read those are done).
+  accelerations_of(m, ws, udot, ws.bias_acceleration);
   for (int b = 0; b < m.nbody(); ++b) {
     // W − I a, I a = (I ω̇ + h × a_Q, m a_Q − h × ω̇) at Q (compute_body_wrenches' momentum, on
     // accelerations).

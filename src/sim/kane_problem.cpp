@@ -276,13 +276,20 @@ template <class S>
 bool KaneProblem::residual_pass(Workspace<S>& ws, double t, const S* y, const double* ydot, S* out, S* c,
                                 bool factor) {
   Workspace<double>& wd = jacobian_values_;
-  const int nq = model_.nq, nu = model_.nu, nc = model_.nconstraint_rows;
+  const int nq = model_.nq;
   const double* udot = ydot + nq;
-  double* lambda = jacobian_multipliers_.data();
   dynamics::evaluate_residual(model_, ws, S(t), y, udot, nullptr, dynamics_, out, c);
-  S* du = out + nq;  // f − M u̇
-  if (factor) {
-    if (!dynamics::factor_mass_matrix_values(model_, ws, wd) || !acceleration_tangents_.prepare(model_, wd)) return false;
+  if (factor && (!dynamics::factor_mass_matrix_values(model_, ws, wd) || !acceleration_tangents_.prepare(model_, wd)))
+    return false;
+  return solve_residual_tangents(ws, udot, out + nq, c, factor);
+}
+
+template <class S>
+bool KaneProblem::solve_residual_tangents(Workspace<S>& ws, const double* udot, S* du, S* c, bool first) {
+  Workspace<double>& wd = jacobian_values_;
+  const int nu = model_.nu, nc = model_.nconstraint_rows;
+  double* lambda = jacobian_multipliers_.data();
+  if (first) {
     for (int k = 0; k < nu; ++k) residual_value_[static_cast<std::size_t>(k)] = math::value_of(du[k]);
     acceleration_tangents_.multipliers(model_, wd, residual_value_.data(), lambda);
     if (!residual_vanishes(c, udot)) return false;
@@ -395,7 +402,7 @@ bool KaneProblem::fused_residual_sensitivities(double t, const double* y, const 
 template <class S>
 bool KaneProblem::fused_residual_pass(Workspace<S>& ws, double t, const S* y, double* ydot, S* out, S* c) {
   Workspace<double>& wd = jacobian_values_;
-  const int nq = model_.nq, nu = model_.nu, nc = model_.nconstraint_rows;
+  const int nq = model_.nq, nc = model_.nconstraint_rows;
   double* udot = ydot + nq;
   double* b = fused_constraint_value_.data();
   dynamics::evaluate_residual_at_rest(model_, ws, S(t), y, dynamics_, out, c);  // c = −b
@@ -407,15 +414,7 @@ bool KaneProblem::fused_residual_pass(Workspace<S>& ws, double t, const S* y, do
   for (int i = 0; i < nq; ++i) ydot[i] = math::value_of(out[i]);
   dynamics::residual_from_rest(model_, ws, udot, out + nq, c);
   // From here as residual_pass at this u̇ (a non-finite f fails the check, and rhs() reports it).
-  S* du = out + nq;  // f − M u̇
-  double* lambda = jacobian_multipliers_.data();
-  for (int k = 0; k < nu; ++k) residual_value_[static_cast<std::size_t>(k)] = math::value_of(du[k]);
-  acceleration_tangents_.multipliers(model_, wd, residual_value_.data(), lambda);
-  if (!residual_vanishes(c, udot)) return false;
-  for (int j = 0; j < nc; ++j)
-    for (int k = 0; k < nu; ++k) du[k] += ws.constraint_matrix(j, k) * lambda[j];
-  acceleration_tangents_.solve(model_, wd, du, c);
-  return true;
+  return solve_residual_tangents(ws, udot, out + nq, c, true);
 }
 
 // f is the value part of the first whole sensitivity pass, or the residual passes' own f.

@@ -229,6 +229,11 @@ class KaneProblem final : public OdeProblem {
   // residual form does not apply.
   template <class S>
   bool residual_pass(dynamics::Workspace<S>& ws, double t, const S* y, const double* ydot, S* out, S* c, bool factor);
+  // The end of every residual pass, r = f − M u̇ in du and c: on the first block λ from r's value
+  // and the check that u̇ solves the equations (false if not), then Aᵀλ's tangent added and every
+  // tangent solved with the value factors.
+  template <class S>
+  bool solve_residual_tangents(dynamics::Workspace<S>& ws, const double* udot, S* du, S* c, bool first);
   template <class S>
   bool residual_vanishes(const S* c, const double* udot) const;
   // DOP853's stages (f not given): f and the sensitivity right-hand sides from the residual
