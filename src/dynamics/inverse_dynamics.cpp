@@ -54,6 +54,17 @@ void add_acceleration(const Model& m, Workspace<S>& ws, const double* udot) {
   accelerations_of(m, ws, udot, ws.wrench);
   for (int b = 0; b < m.nbody(); ++b) ws.bias_acceleration[b] += ws.wrench[b];
 }
+
+// The stages that do not depend on u̇: state expressions, positions, velocities, q̇ and the
+// constraint rows (which read the bias accelerations at u̇ = 0).
+template <class S>
+void stages_at_rest(const Model& m, Workspace<S>& ws, const S& t, const S* q, const S* u, const DynamicsOptions& options) {
+  evaluate_state_expressions(m, ws, t, q, u);
+  compute_position(m, ws, q);
+  compute_velocity(m, ws, u);
+  compute_kinematic_derivatives(m, ws, q, u);
+  if (m.nconstraint_rows > 0) compute_constraints(m, ws, q, u, options);
+}
 }  // namespace
 
 template <class S>
@@ -61,13 +72,8 @@ void evaluate_residual(const Model& m, Workspace<S>& ws, const S& t, const S* y,
                        const double* multipliers, const DynamicsOptions& options, S* out, S* constraint_out) {
   const S* q = y;
   const S* u = y + m.nq;
-  evaluate_state_expressions(m, ws, t, q, u);
-  compute_position(m, ws, q);
-  compute_velocity(m, ws, u);
-  compute_kinematic_derivatives(m, ws, q, u);
-  // The constraint rows read the bias accelerations at u̇ = 0: before add_acceleration.
+  stages_at_rest(m, ws, t, q, u, options);
   const int nc = m.nconstraint_rows;
-  if (nc > 0) compute_constraints(m, ws, q, u, options);
   add_acceleration(m, ws, udot);
   compute_forcing(m, ws, q, u);  // f − M u̇
   for (int i = 0; i < m.nq; ++i) out[i] = ws.qdot[i];
@@ -104,11 +110,7 @@ void evaluate_residual_at_rest(const Model& m, Workspace<S>& ws, const S& t, con
                                const DynamicsOptions& options, S* out, S* constraint_out) {
   const S* q = y;
   const S* u = y + m.nq;
-  evaluate_state_expressions(m, ws, t, q, u);
-  compute_position(m, ws, q);
-  compute_velocity(m, ws, u);
-  compute_kinematic_derivatives(m, ws, q, u);
-  if (m.nconstraint_rows > 0) compute_constraints(m, ws, q, u, options);
+  stages_at_rest(m, ws, t, q, u, options);
   compute_body_wrenches(m, ws);
   for (int k = 0; k < m.nu; ++k) ws.forcing[k] = S(0);
   detail::add_joint_spring_dampers(m, ws, q, u);

@@ -253,6 +253,13 @@ bool KaneProblem::residual_jacobian(double t, const double* y, const double* ydo
 template <class Seed, class Store>
 bool KaneProblem::residual_blocks(TangentBlocks& blocks, double t, const double* y, const double* ydot, Seed seed,
                                   Store store) {
+  return blocked_passes(blocks, y, seed, store, [&](auto& b, bool first) {
+    return residual_pass(b.ws, t, b.y.data(), ydot, b.ydot.data(), b.constraint_residual.data(), first);
+  });
+}
+
+template <class Seed, class Store, class Pass>
+bool KaneProblem::blocked_passes(TangentBlocks& blocks, const double* y, Seed seed, Store store, Pass pass) {
   const int n = size();
   bool first = true, ok = true;
   blocks.for_each([&](auto& b) {
@@ -261,7 +268,7 @@ bool KaneProblem::residual_blocks(TangentBlocks& blocks, double t, const double*
       b.y[r].v = y[r];
       b.y[r].set_tangents([&](int i) { return seed(b.first + i, r); }, b.count);
     }
-    ok = residual_pass(b.ws, t, b.y.data(), ydot, b.ydot.data(), b.constraint_residual.data(), first);
+    ok = pass(b, first);
     first = false;
     if (!ok) return;
     for (int i = 0; i < b.count; ++i)
@@ -380,21 +387,12 @@ bool KaneProblem::residual_sensitivities(double t, const double* y, const double
 bool KaneProblem::fused_residual_sensitivities(double t, const double* y, const double* const* s, double* ydot,
                                                double* const* sdot) {
   if (model_.evaluate_planar()) return false;
-  const int n = size();
-  bool first = true, ok = true;
-  sensitivity_blocks_.for_each([&](auto& b) {
-    if (!ok) return;
-    for (int r = 0; r < n; ++r) {
-      b.y[r].v = y[r];
-      b.y[r].set_tangents([&](int i) { return s[b.first + i][r]; }, b.count);
-    }
-    ok = first ? fused_residual_pass(b.ws, t, b.y.data(), ydot, b.ydot.data(), b.constraint_residual.data())
-               : residual_pass(b.ws, t, b.y.data(), ydot, b.ydot.data(), b.constraint_residual.data(), false);
-    first = false;
-    if (!ok) return;
-    for (int i = 0; i < b.count; ++i)
-      for (int r = 0; r < n; ++r) sdot[b.first + i][r] = b.ydot[r].d(i);
-  });
+  const bool ok = blocked_passes(
+      sensitivity_blocks_, y, [&](int i, int r) { return s[i][r]; }, [&](int i, int r, double d) { sdot[i][r] = d; },
+      [&](auto& b, bool first) {
+        return first ? fused_residual_pass(b.ws, t, b.y.data(), ydot, b.ydot.data(), b.constraint_residual.data())
+                     : residual_pass(b.ws, t, b.y.data(), ydot, b.ydot.data(), b.constraint_residual.data(), false);
+      });
   if (ok) last_sensitivity_method_ = DerivativeMethod::residual;
   return ok;
 }

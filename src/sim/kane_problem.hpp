@@ -223,6 +223,10 @@ class KaneProblem final : public OdeProblem {
                               double* const* sdot);
   template <class Seed, class Store>
   bool residual_blocks(TangentBlocks& blocks, double t, const double* y, const double* ydot, Seed seed, Store store);
+  // Every block seeded (direction k's tangent on y_r is seed(k, r)), pass(block, first) run on it,
+  // and its tangents stored (store(k, r, d)); false as soon as a pass is.
+  template <class Seed, class Store, class Pass>
+  bool blocked_passes(TangentBlocks& blocks, const double* y, Seed seed, Store store, Pass pass);
   // One residual pass on ws at the seeded state y (dynamics/inverse_dynamics.hpp): out (nstate)
   // gets q̇ and u̇ with their tangents, c (m) is scratch. `factor`: form the value factors from
   // this pass (else those of the last one, at the same state, are used). False when the
