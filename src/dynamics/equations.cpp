@@ -19,12 +19,6 @@ using math::cross_force;
 using math::add_force_to_parent;
 
 namespace {
-// s · F for a partial velocity s = (a, 0) (rotation: a·τ) or (0, a) (translation: a·F).
-template <class S>
-S power(const Vec6<S>& s, bool rotation, const Vec6<S>& F) {
-  return rotation ? S(s.template head<3>().dot(F.template head<3>())) : S(s.template tail<3>().dot(F.template tail<3>()));
-}
-
 // ws.speed_offset[k] for the first speed k of each joint: its body's reference point minus that
 // of the nearest ancestor body whose joint has speeds (0 for a root); the other speeds of a joint
 // share its body, so their offsets stay 0.
@@ -139,12 +133,9 @@ void compute_body_wrenches(const Model& m, Workspace<S>& ws) {
     const S Ixx = I.I(0, 0), Iyy = I.I(1, 1), Izz = I.I(2, 2), Ixy = I.I(0, 1), Ixz = I.I(0, 2), Iyz = I.I(1, 2);
     // Momentum I V = (L, p), then (τ, F) = (h × g, m g) − I A − V ×* (L, p), with
     // V ×* (L, p) = (ω × L + v × p, ω × p).
-    const S L0 = Ixx * w0 + Ixy * w1 + Ixz * w2 + (h1 * v2 - h2 * v1);
-    const S L1 = Ixy * w0 + Iyy * w1 + Iyz * w2 + (h2 * v0 - h0 * v2);
-    const S L2 = Ixz * w0 + Iyz * w1 + Izz * w2 + (h0 * v1 - h1 * v0);
-    const S p0 = mass * v0 - (h1 * w2 - h2 * w1);
-    const S p1 = mass * v1 - (h2 * w0 - h0 * w2);
-    const S p2 = mass * v2 - (h0 * w1 - h1 * w0);
+    S IV[6];
+    math::momentum(I, V, IV);
+    const S L0 = IV[0], L1 = IV[1], L2 = IV[2], p0 = IV[3], p1 = IV[4], p2 = IV[5];
     S* W = ws.wrench[b].data();
     W[0] = (h1 * e2 - h2 * e1) - (Ixx * l0 + Ixy * l1 + Ixz * l2) - (w1 * L2 - w2 * L1) - (v1 * p2 - v2 * p1);
     W[1] = (h2 * e0 - h0 * e2) - (Ixy * l0 + Iyy * l1 + Iyz * l2) - (w2 * L0 - w0 * L2) - (v2 * p0 - v0 * p2);
@@ -162,13 +153,10 @@ void compute_forcing(const Model& m, Workspace<S>& ws, const S* q, const S* u) {
     detail::compute_forcing_planar(m, ws);
   } else {
     compute_body_wrenches(m, ws);
-    for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
-      const Joint& J = m.joints[*it];
-      if (J.parent >= 0) add_force_to_parent<S>(ws.wrench[J.child], ws.joint_offset[*it], ws.wrench[J.parent]);
-    }
+    detail::sum_over_subtrees(m, ws);
     for (const Joint& J : m.joints)
       for (int k = J.u_offset; k < J.u_offset + J.nu; ++k)
-        ws.forcing[k] = power(ws.partial[k], J.speeds[k - J.u_offset].rotation, ws.wrench[J.child]);
+        ws.forcing[k] = detail::power(ws.partial[k], J.speeds[k - J.u_offset].rotation, ws.wrench[J.child]);
   }
   detail::add_joint_spring_dampers(m, ws, q, u);
 }

@@ -121,4 +121,22 @@ S potential_energy(const Model& m, const Workspace<S>& ws, const S* q);
 // sphere the term vanishes, so exact solutions are unchanged; off it, |q| relaxes back to 1.
 inline constexpr double kQuaternionStabilization = 1.0;
 
+namespace detail {
+// s · F for a partial velocity s = (a, 0) (rotation: a·τ) or (0, a) (translation: a·F).
+template <class S>
+S power(const Vec6<S>& s, bool rotation, const Vec6<S>& F) {
+  return rotation ? S(s.template head<3>().dot(F.template head<3>())) : S(s.template tail<3>().dot(F.template tail<3>()));
+}
+
+// The bodies' wrenches in ws.wrench, each at its joint point, summed over their subtrees (leaves
+// to roots): afterwards a body's slot holds the wrench on its whole subtree.
+template <class S>
+void sum_over_subtrees(const Model& m, Workspace<S>& ws) {
+  for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
+    const Joint& J = m.joints[*it];
+    if (J.parent >= 0) math::add_force_to_parent<S>(ws.wrench[J.child], ws.joint_offset[*it], ws.wrench[J.parent]);
+  }
+}
+}  // namespace detail
+
 }  // namespace kanesens::dynamics

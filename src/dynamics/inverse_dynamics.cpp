@@ -88,23 +88,6 @@ void evaluate_residual(const Model& m, Workspace<S>& ws, const S& t, const S* y,
   }
 }
 
-namespace {
-// Subtree sums of the bodies' wrenches at their joint points, leaves to roots.
-template <class S>
-void sum_over_subtrees(const Model& m, Workspace<S>& ws) {
-  for (auto it = m.joint_order.rbegin(); it != m.joint_order.rend(); ++it) {
-    const Joint& J = m.joints[*it];
-    if (J.parent >= 0) math::add_force_to_parent<S>(ws.wrench[J.child], ws.joint_offset[*it], ws.wrench[J.parent]);
-  }
-}
-
-// Speed k's generalized force from its subtree's wrench F: s_k · F (s_k = (a, 0) or (0, a)).
-template <class S>
-S projected(const Vec6<S>& s, bool rotation, const Vec6<S>& F) {
-  return rotation ? S(s[0] * F[0] + s[1] * F[1] + s[2] * F[2]) : S(s[3] * F[3] + s[4] * F[4] + s[5] * F[5]);
-}
-}  // namespace
-
 template <class S>
 void evaluate_residual_at_rest(const Model& m, Workspace<S>& ws, const S& t, const S* y,
                                const DynamicsOptions& options, S* out, S* constraint_out) {
@@ -122,10 +105,10 @@ template <class S>
 void forcing_values(const Model& m, const Workspace<S>& ws, Workspace<double>& wd, double* f) {
   for (int b = 0; b < m.nbody(); ++b)
     for (int i = 0; i < 6; ++i) wd.wrench[b][i] = value_of(ws.wrench[b][i]);
-  sum_over_subtrees(m, wd);
+  detail::sum_over_subtrees(m, wd);
   for (const Joint& J : m.joints)
     for (int k = J.u_offset; k < J.u_offset + J.nu; ++k)
-      f[k] = projected(wd.partial[k], J.speeds[k - J.u_offset].rotation, wd.wrench[J.child]) + value_of(ws.forcing[k]);
+      f[k] = detail::power(wd.partial[k], J.speeds[k - J.u_offset].rotation, wd.wrench[J.child]) + value_of(ws.forcing[k]);
 }
 
 template <class S>
@@ -134,24 +117,15 @@ void residual_from_rest(const Model& m, Workspace<S>& ws, const double* udot, S*
   // read those are done).
   accelerations_of(m, ws, udot, ws.bias_acceleration);
   for (int b = 0; b < m.nbody(); ++b) {
-    // W − I a, I a = (I ω̇ + h × a_Q, m a_Q − h × ω̇) at Q (compute_body_wrenches' momentum, on
-    // accelerations).
-    const SpatialInertia<S>& I = ws.spatial_inertia[b];
-    const S* A = ws.bias_acceleration[b].data();
-    S* W = ws.wrench[b].data();
-    const S l0 = A[0], l1 = A[1], l2 = A[2], a0 = A[3], a1 = A[4], a2 = A[5];
-    const S h0 = I.h[0], h1 = I.h[1], h2 = I.h[2];
-    W[0] -= I.I(0, 0) * l0 + I.I(0, 1) * l1 + I.I(0, 2) * l2 + (h1 * a2 - h2 * a1);
-    W[1] -= I.I(0, 1) * l0 + I.I(1, 1) * l1 + I.I(1, 2) * l2 + (h2 * a0 - h0 * a2);
-    W[2] -= I.I(0, 2) * l0 + I.I(1, 2) * l1 + I.I(2, 2) * l2 + (h0 * a1 - h1 * a0);
-    W[3] -= I.m * a0 - (h1 * l2 - h2 * l1);
-    W[4] -= I.m * a1 - (h2 * l0 - h0 * l2);
-    W[5] -= I.m * a2 - (h0 * l1 - h1 * l0);
+    // W − I a (the inertia applied to the acceleration as to a velocity: its momentum form).
+    S Ia[6];
+    math::momentum(ws.spatial_inertia[b], ws.bias_acceleration[b].data(), Ia);
+    for (int i = 0; i < 6; ++i) ws.wrench[b][i] -= Ia[i];
   }
-  sum_over_subtrees(m, ws);
+  detail::sum_over_subtrees(m, ws);
   for (const Joint& J : m.joints)
     for (int k = J.u_offset; k < J.u_offset + J.nu; ++k)
-      r[k] = projected(ws.partial[k], J.speeds[k - J.u_offset].rotation, ws.wrench[J.child]) + ws.forcing[k];
+      r[k] = detail::power(ws.partial[k], J.speeds[k - J.u_offset].rotation, ws.wrench[J.child]) + ws.forcing[k];
   for (int j = 0; j < m.nconstraint_rows; ++j)
     for (int k = 0; k < m.nu; ++k) constraint_out[j] += ws.constraint_matrix(j, k) * udot[k];
 }

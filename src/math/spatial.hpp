@@ -217,6 +217,21 @@ struct SpatialInertia {
   }
 };
 
+// X x = (I ω + h × v, m v − h × ω) for x = (ω, v), written in scalars (the same sums as
+// operator*): the dynamics' per-body loops keep it in registers, without Eigen temporaries.
+template <class S>
+[[gnu::always_inline]] inline void momentum(const SpatialInertia<S>& X, const S* x, S* out) {
+  const S w0 = x[0], w1 = x[1], w2 = x[2], v0 = x[3], v1 = x[4], v2 = x[5];
+  const S h0 = X.h[0], h1 = X.h[1], h2 = X.h[2];
+  const S Ixx = X.I(0, 0), Iyy = X.I(1, 1), Izz = X.I(2, 2), Ixy = X.I(0, 1), Ixz = X.I(0, 2), Iyz = X.I(1, 2);
+  out[0] = Ixx * w0 + Ixy * w1 + Ixz * w2 + (h1 * v2 - h2 * v1);
+  out[1] = Ixy * w0 + Iyy * w1 + Iyz * w2 + (h2 * v0 - h0 * v2);
+  out[2] = Ixz * w0 + Iyz * w1 + Izz * w2 + (h0 * v1 - h1 * v0);
+  out[3] = X.m * v0 - (h1 * w2 - h2 * w1);
+  out[4] = X.m * v1 - (h2 * w0 - h0 * w2);
+  out[5] = X.m * v2 - (h0 * w1 - h1 * w0);
+}
+
 // A body's spatial inertia at its reference point A in body-frame components (constant: set
 // once per parameter set): mass m, central inertia I_c and mass center at c − A = −p.
 template <class S>

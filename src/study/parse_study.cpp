@@ -1,6 +1,5 @@
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <span>
 
@@ -178,21 +177,6 @@ void parse_record(const YAML::Node& n, const YamlReader& r, StudySpec& st) {
 }
 
 // Applies "a.b.c=value" to the YAML document (creating maps as needed).
-// A parameter or initial condition from --set: a number. A word there is more likely a study
-// setting written without its section (sensitivity.error_control for
-// solver.sensitivity.error_control), so the message says how settings are named.
-double parse_set_input(const std::string& name, const std::string& value) {
-  const char* begin = value.c_str();
-  char* end = nullptr;
-  (void)std::strtod(begin, &end);
-  if (end == begin)
-    throw InputError({}, "--set " + name,
-                     "expected a number for a parameter or initial condition, found '" + value +
-                         "'; a study setting is named by its path from the top of the study file, under time, "
-                         "solver or sampling (solver.method=bdf, solver.sensitivity.error_control=false)");
-  return parse_number(value, "--set " + name);
-}
-
 void apply_setting(YAML::Node doc, const std::string& path, const std::string& value) {
   std::vector<std::string> parts;
   std::size_t start = 0;
@@ -237,7 +221,13 @@ StudySpec parse_study_file(const std::string& path, const std::vector<std::strin
   if (!doc.IsMap()) throw InputError({path, 1, 1}, "", "expected a YAML map (a study: kanesens, scene, time, solver, ...)");
   for (const auto& [name, value] : parse_assignments(set)) {
     if (is_study_setting(name)) apply_setting(doc, name, value);
-    else st.set_inputs[name] = parse_set_input(name, value);
+    // A parameter or initial condition takes a number; a word there is more likely a study
+    // setting written without its section, so the message says how settings are named.
+    else
+      st.set_inputs[name] = parse_number(value, "--set " + name,
+                                         "a parameter or initial condition takes a number, and a study setting is "
+                                         "named by its path from the top of the study file, under time, solver or "
+                                         "sampling (solver.method=bdf, solver.sensitivity.error_control=false)");
   }
   const YamlReader r(path);
   r.check_keys(doc, "", {"kanesens", "scene", "time", "solver", "sampling", "vary", "sensitivities", "record", "outputs", "events"});

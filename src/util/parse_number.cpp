@@ -7,13 +7,13 @@
 
 namespace kanesens {
 
-double parse_number(const std::string& text, const std::string& what) {
+double parse_number(const std::string& text, const std::string& what, const std::string& hint) {
   const char* begin = text.c_str();
   char* end = nullptr;
   const double v = std::strtod(begin, &end);
   while (end && *end == ' ') ++end;
   if (text.empty() || end == begin || *end != '\0')
-    throw InputError({}, what, "expected a number, found '" + text + "'");
+    throw InputError({}, what, "expected a number, found '" + text + "'" + (hint.empty() ? "" : "; " + hint));
   if (!std::isfinite(v)) throw InputError({}, what, "value must be finite, found '" + text + "'");
   return v;
 }
