@@ -264,6 +264,7 @@ bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, con
                                 const S&, const S*, S*, const DynamicsOptions&);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::MultiDual<2>)
 KANESENS_INSTANTIATE(math::MultiDual<4>)
 KANESENS_INSTANTIATE(math::MultiDual<6>)
 KANESENS_INSTANTIATE(math::MultiDual<8>)

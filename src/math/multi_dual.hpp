@@ -13,6 +13,7 @@
 // reductions call Eigen's functors out of line).
 #pragma once
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -20,21 +21,43 @@
 
 namespace kanesens::math {
 
+namespace detail {
+// A pack of L doubles (the attribute needs a size known where the type is spelled).
+template <int L>
+struct PackOf;
+template <>
+struct PackOf<2> {
+  using type = double __attribute__((vector_size(16), aligned(8)));
+};
+template <>
+struct PackOf<4> {
+  using type = double __attribute__((vector_size(32), aligned(8)));
+};
+template <>
+struct PackOf<8> {
+  using type = double __attribute__((vector_size(64), aligned(8)));
+};
+}  // namespace detail
+
 template <int N>
 struct MultiDual {
   static_assert(N >= 1, "at least one tangent");
   // Tangents travel in packs of `lanes` doubles (GCC/Clang vector extension): one SIMD register
   // (8 with AVX-512, 4 with AVX, 2 with SSE2: the build's instruction set, KANESENS_ARCH in
-  // CMakeLists.txt). 8-byte aligned so that the struct has no padding (GCC copies
-  // padding through the stack, which stalls the next load of the value).
+  // CMakeLists.txt), narrowed to 2 or 4 for N ≤ 2 or ≤ 4: idle lanes are not free (processors
+  // that split 512-bit operations in two halves pay for all eight), and the tangent arithmetic
+  // is lane by lane, so the values do not depend on the width. 8-byte aligned so that the struct
+  // has no padding (GCC copies padding through the stack, which stalls the next load of the
+  // value).
 #if defined(__AVX512F__)
-  static constexpr int lanes = 8;
+  static constexpr int register_lanes = 8;
 #elif defined(__AVX__)
-  static constexpr int lanes = 4;
+  static constexpr int register_lanes = 4;
 #else
-  static constexpr int lanes = 2;
+  static constexpr int register_lanes = 2;
 #endif
-  using Pack = double __attribute__((vector_size(8 * lanes), aligned(8)));
+  static constexpr int lanes = std::min(register_lanes, N <= 2 ? 2 : N <= 4 ? 4 : 8);
+  using Pack = typename detail::PackOf<lanes>::type;
   static constexpr int tangents = N;
   static constexpr int packs = (N + lanes - 1) / lanes;  // unused lanes of the last pack stay 0
 

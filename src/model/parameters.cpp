@@ -26,6 +26,8 @@ void evaluate_parameter_values(const Model& m, const S* given, S* parameters, S*
 template void evaluate_parameter_values<double>(const Model&, const double*, double*, double*);
 template void evaluate_parameter_values<Dual>(const Model&, const Dual*, Dual*, Dual*);
 template void evaluate_parameter_values<math::Dual2>(const Model&, const math::Dual2*, math::Dual2*, math::Dual2*);
+template void evaluate_parameter_values<math::MultiDual<2>>(const Model&, const math::MultiDual<2>*,
+                                                             math::MultiDual<2>*, math::MultiDual<2>*);
 template void evaluate_parameter_values<math::MultiDual<4>>(const Model&, const math::MultiDual<4>*,
                                                              math::MultiDual<4>*, math::MultiDual<4>*);
 template void evaluate_parameter_values<math::MultiDual<6>>(const Model&, const math::MultiDual<6>*,

@@ -255,9 +255,9 @@ class KaneProblem final : public OdeProblem {
   bool last_f_from_sensitivity_pass_ = false;
   template <int W>
   void evaluate_block(TangentBlock<W>& b, double t);
-  // Few sensitivities: one Dual pass each costs less than a block of the narrowest compiled
-  // width (4) with idle lanes.
-  static constexpr int kSingleTangentPasses = 2;
+  // One sensitivity: a Dual pass costs less than a block of the narrowest compiled width (2);
+  // two take one block of width 2, which costs less than two Dual passes.
+  static constexpr int kSingleTangentPasses = 1;
   bool single_tangent() const { return num_sensitivities() <= kSingleTangentPasses; }
   // The embedding could not evaluate: rank lost (the rows named) or M not positive definite.
   template <class Scratch>

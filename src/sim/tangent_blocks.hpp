@@ -1,6 +1,6 @@
 // Directions evaluated in multi-tangent passes (math/multi_dual.hpp): k directions (Jacobian
-// columns, sensitivities) split into blocks of the compiled widths 4, 6, 8, 10, 12, 16, each with its own
-// workspace (its parameter tangents set once per sample), embedding scratch and seeded state.
+// columns, sensitivities) split into blocks of the compiled widths 2, 4, 6, 8, 10, 12, 16, each with
+// its own workspace (its parameter tangents set once per sample), embedding scratch and seeded state.
 // Allocated at construction; evaluating a block allocates nothing.
 #pragma once
 #include <algorithm>
@@ -33,7 +33,7 @@ struct TangentBlock {
 
 // k directions take ⌈k/16⌉ passes: blocks of 16 and one block of the smallest width that holds
 // the rest (at most 3 idle directions, rounded up to whole SIMD packs; 10 holds the Jacobian of
-// a 5-DOF scene exactly, 6 six sensitivities). Fewer, wider passes win: each pass repeats the
+// a 5-DOF scene exactly, 6 six sensitivities, 2 two). Fewer, wider passes win: each pass repeats the
 // value work. W: the compiled widths, widest first.
 template <int... W>
 class TangentBlockSet {
@@ -63,6 +63,6 @@ class TangentBlockSet {
   std::tuple<Blocks<W>...> blocks_;
 };
 
-using TangentBlocks = TangentBlockSet<16, 12, 10, 8, 6, 4>;
+using TangentBlocks = TangentBlockSet<16, 12, 10, 8, 6, 4, 2>;
 
 }  // namespace kanesens::sim

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -61,6 +62,29 @@ TEST(MultiDual, EveryTangentMatchesDual) {
   expect_matches_dual<4>();
   expect_matches_dual<8>();
   expect_matches_dual<13>();
+}
+
+// Tangent i of kitchen_sink on MultiDual<N>, seeded as for N = 2 in directions 0 and 1.
+template <int N>
+std::array<double, 3> first_two_tangents() {
+  const double seeds[3][2] = {{0.3, -1.1}, {0.8, 0.25}, {-0.6, 0.9}};
+  MultiDual<N> x(0.7), y(-0.4), z(0.3);
+  x.set_tangents([&](int i) { return i < 2 ? seeds[0][i] : 0.5; }, N);
+  y.set_tangents([&](int i) { return i < 2 ? seeds[1][i] : -0.5; }, N);
+  z.set_tangents([&](int i) { return i < 2 ? seeds[2][i] : 0.25; }, N);
+  const MultiDual<N> r = kitchen_sink(x, y, z);
+  return {r.v, r.d(0), r.d(1)};
+}
+
+TEST(MultiDual, TangentsDoNotDependOnTheWidth) {
+  // Narrow widths take narrower packs (MultiDual::lanes); the arithmetic is lane by lane, so a
+  // direction's tangent is the same bits at every width.
+  const std::array<double, 3> two = first_two_tangents<2>();
+  EXPECT_EQ(first_two_tangents<4>(), two);
+  EXPECT_EQ(first_two_tangents<6>(), two);
+  EXPECT_EQ(first_two_tangents<13>(), two);
+  EXPECT_EQ(MultiDual<2>::packs, 1);
+  EXPECT_EQ(MultiDual<4>::packs, 1);
 }
 
 TEST(MultiDual, SeedingAndUnusedLanes) {

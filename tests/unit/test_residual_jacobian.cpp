@@ -223,6 +223,10 @@ TEST(ResidualSensitivities, MatchWholeRhsPasses) {
        Method::whole_rhs},
       {"configs/nlink_chain_4.yaml", {}, {"m", "L", "c", "j1.q0", "j2.q0", "j1.u0", "j3.u0", "j4.q0", "k"},
        Method::whole_rhs},
+      // Two sensitivities: one block of width 2.
+      {"configs/arm_3d.yaml", {}, {"m1", "wrist.q0[0]"}, Method::residual},
+      {"configs/rolling_disc.yaml", with(F::multipliers, St::baumgarte), {"r", "base.u0[4]"}, Method::residual},
+      {"configs/nlink_chain_4.yaml", {}, {"m", "L"}, Method::whole_rhs},
   };
   std::mt19937 rng(29);
   for (const SensCase& c : cases) {

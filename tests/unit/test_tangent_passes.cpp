@@ -1,5 +1,5 @@
 // The solvers' Jacobian and sensitivity right-hand sides come from multi-tangent passes (blocks
-// of 8 and 4 directions; one or two sensitivities from single-tangent passes). They must equal,
+// of 2 to 16 directions; one sensitivity from a single-tangent pass). They must equal,
 // direction by direction, what one single-tangent Dual pass per direction gives (the form the
 // finite-difference and closed-form tests validate), and the matrix-free product J v the
 // assembled J times v and the differences of the RHS, on
@@ -46,9 +46,11 @@ std::vector<Case> cases() {
       {"four_bar.yaml", {"r", "c", "b", "m1", "m2", "m3"}, with(F::embedding, St::projection)},
       {"rolling_disc.yaml", {"m", "r", "base.u0[0]"}, with(F::multipliers, St::baumgarte)},
       {"andrews.yaml", {"m1", "c0", "xa", "I7"}, with(F::multipliers, St::projection)},
-      // One or two sensitivities: single-tangent passes (KaneProblem::kSingleTangentPasses).
+      // One sensitivity: a single-tangent pass (KaneProblem::kSingleTangentPasses); two: a block
+      // of width 2.
       {"arm_3d.yaml", {"k_tele"}, {}},
       {"four_bar.yaml", {"c", "m2"}, with(F::embedding, St::projection)},
+      {"nlink_chain_4.yaml", {"m", "j2.u0"}, {}},
   };
 }
 
