@@ -10,7 +10,12 @@ states and of the sensitivities at the output times against a reference run at r
     /usr/bin/python3 bench/dop853_dense_output.py BEFORE_EXE AFTER_EXE [--repeat R] [--out JSON] [--floor]
 
 --floor adds the AFTER build with 2 output times ("floor"): the same steps without the dense
-output's three extra evaluations, the least time any interpolation could cost.
+output's three extra evaluations, the least time any interpolation could cost. --also LABEL=EXE
+(repeatable) adds further builds, run interleaved with the others.
+
+At equal accuracy: for each "before" row, every other build's time at the same largest state
+error, interpolated on its own work-precision line (log time against log error, between its two
+nearest tolerances).
 
 Writes the raw figures to bench/results/dop853_dense_output.json and prints a markdown table.
 """
@@ -18,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import statistics
 import subprocess
 import tempfile
@@ -57,10 +63,16 @@ def main() -> int:
     ap.add_argument("--repeat", type=int, default=21)
     ap.add_argument("--out", default=str(HERE / "results" / "dop853_dense_output.json"))
     ap.add_argument("--floor", action="store_true")
+    ap.add_argument("--also", action="append", default=[], metavar="LABEL=EXE")
     a = ap.parse_args()
     builds = {"before": a.before, "after": a.after}
     if a.floor:
         builds["floor"] = a.after
+    for spec in a.also:
+        label, _, exe = spec.partition("=")
+        if not exe or label in builds:
+            ap.error(f"--also {spec}: expected a new LABEL=EXE")
+        builds[label] = exe
     rows = []
     with tempfile.TemporaryDirectory() as d:
         ref_path = Path(d) / "reference.yaml"
@@ -97,7 +109,7 @@ def main() -> int:
                 })
     result = {
         "command": " ".join(["bench/dop853_dense_output.py", a.before, a.after, "--repeat", str(a.repeat)]
-                            + (["--floor"] if a.floor else [])),
+                            + (["--floor"] if a.floor else []) + [f"--also {x}" for x in a.also]),
         "revision": c.git_revision(), "cpu": c.cpu_model(), "nproc": c.nproc(), "loadavg": c.loadavg(),
         "study": "configs/nlink_chain_4.yaml, 10 s, 251 output times, dop853, atol = 1e-2 rtol, "
                  "sensitivities to m and L; reference: the before build at rtol 1e-13",
@@ -113,7 +125,32 @@ def main() -> int:
             err = (lambda e: "—" if e is None else f"{e:.1e}")
             print(f"| {rtol:.0e} | {r['build']} | {r['steps']} | {r['rhs_evals']} | {r['integration_seconds_median']:.4f} | "
                   f"{ratio:.2f} | {err(r['max_state_error'])} | {err(r['max_sensitivity_error'])} |")
+    others = [b for b in builds if b not in ("before", "floor")]
+    print()
+    print("| before's rtol | before's state error | " + " | ".join(f"{b}: time ratio at that error" for b in others) + " |")
+    print("|---|---|" + "---|" * len(others))
+    for rtol in TOLERANCES:
+        b = next(r for r in rows if r["rtol"] == rtol and r["build"] == "before")
+        cells = []
+        for o in others:
+            t = time_at_error(rows, o, b["max_state_error"])
+            cells.append("—" if t is None else f"{t / b['integration_seconds_median']:.2f}")
+        print(f"| {rtol:.0e} | {b['max_state_error']:.1e} | " + " | ".join(cells) + " |")
     return 0
+
+
+def time_at_error(rows: list, build: str, error: float) -> float | None:
+    """The build's median time at this largest state error, on the line through its two
+    tolerances nearest in error (log time against log error); None outside its range by more
+    than a factor 10 in error."""
+    pts = sorted((r["max_state_error"], r["integration_seconds_median"]) for r in rows
+                 if r["build"] == build and r["max_state_error"])
+    if len(pts) < 2 or not (pts[0][0] / 10 <= error <= pts[-1][0] * 10):
+        return None
+    k = min(max(next((i for i, p in enumerate(pts) if p[0] >= error), len(pts) - 1), 1), len(pts) - 1)
+    (e0, t0), (e1, t1) = pts[k - 1], pts[k]
+    x = (math.log(error) - math.log(e0)) / (math.log(e1) - math.log(e0))
+    return math.exp(math.log(t0) + x * (math.log(t1) - math.log(t0)))
 
 
 if __name__ == "__main__":

@@ -208,6 +208,10 @@ def sensitivity_cost_fused():
     return driver_table("sensitivity_cost", "sensitivity_cost_fused.json")
 
 
+def sensitivity_cost_two():
+    return driver_table("sensitivity_cost", "sensitivity_cost_two.json")
+
+
 def sensitivity_cost_vector_ops():
     return driver_table("sensitivity_cost", "sensitivity_cost_vector_ops.json")
 
@@ -902,7 +906,7 @@ TABLES = {
     "jacobian_cost_width6": jacobian_cost_width6, "sensitivity_cost_width6": sensitivity_cost_width6,
     "jacobian_cost_gradient": jacobian_cost_gradient, "sensitivity_cost_gradient": sensitivity_cost_gradient,
     "jacobian_cost_current": jacobian_cost_current, "sensitivity_cost_current": sensitivity_cost_current,
-    "sensitivity_cost_fused": sensitivity_cost_fused, "sensitivity_cost_vector_ops": sensitivity_cost_vector_ops, "sensitivity_cost_no_error_control": sensitivity_cost_no_error_control,
+    "sensitivity_cost_fused": sensitivity_cost_fused, "sensitivity_cost_two": sensitivity_cost_two, "sensitivity_cost_vector_ops": sensitivity_cost_vector_ops, "sensitivity_cost_no_error_control": sensitivity_cost_no_error_control,
     "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,

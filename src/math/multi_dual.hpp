@@ -45,8 +45,8 @@ struct MultiDual {
   // Tangents travel in packs of `lanes` doubles (GCC/Clang vector extension): one SIMD register
   // (8 with AVX-512, 4 with AVX, 2 with SSE2: the build's instruction set, KANESENS_ARCH in
   // CMakeLists.txt), narrowed to 2 or 4 for N ≤ 2 or ≤ 4: idle lanes are not free (processors
-  // that split 512-bit operations in two halves pay for all eight), and the tangent arithmetic
-  // is lane by lane, so the values do not depend on the width. 8-byte aligned so that the struct
+  // that split 512-bit operations in two halves pay for all eight; docs/benchmarks.md), and the
+  // tangent arithmetic is lane by lane, so the values do not depend on the width. 8-byte aligned so that the struct
   // has no padding (GCC copies padding through the stack, which stalls the next load of the
   // value).
 #if defined(__AVX512F__)
