@@ -264,13 +264,7 @@ bool embedded_rhs(const Model& m, Workspace<S>& ws, EmbeddingScratch<S>& sc, con
                                 const S&, const S*, S*, const DynamicsOptions&);
 KANESENS_INSTANTIATE(double)
 KANESENS_INSTANTIATE(Dual)
-KANESENS_INSTANTIATE(math::MultiDual<2>)
-KANESENS_INSTANTIATE(math::MultiDual<4>)
-KANESENS_INSTANTIATE(math::MultiDual<6>)
-KANESENS_INSTANTIATE(math::MultiDual<8>)
-KANESENS_INSTANTIATE(math::MultiDual<10>)
-KANESENS_INSTANTIATE(math::MultiDual<12>)
-KANESENS_INSTANTIATE(math::MultiDual<16>)
+KANESENS_FOR_EACH_MULTI_DUAL(KANESENS_INSTANTIATE)
 #undef KANESENS_INSTANTIATE
 
 }  // namespace kanesens::dynamics

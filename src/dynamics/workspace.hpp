@@ -14,9 +14,7 @@
 // eigenvalue and extremum sensitivities) and the multi-tangent widths of the blocked Jacobian and
 // sensitivity passes. Each .cpp instantiates its templates with
 // KANESENS_FOR_EACH_DYNAMICS_SCALAR(ITS_MACRO) (it includes math/dual2.hpp and math/multi_dual.hpp).
-#define KANESENS_FOR_EACH_DYNAMICS_SCALAR(X) \
-  X(double) X(Dual) X(math::Dual2) X(math::MultiDual<2>) X(math::MultiDual<4>) X(math::MultiDual<6>) X(math::MultiDual<8>) \
-  X(math::MultiDual<10>) X(math::MultiDual<12>) X(math::MultiDual<16>)
+#define KANESENS_FOR_EACH_DYNAMICS_SCALAR(X) X(double) X(Dual) X(math::Dual2) KANESENS_FOR_EACH_MULTI_DUAL(X)
 
 namespace kanesens::dynamics {
 

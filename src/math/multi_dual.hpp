@@ -46,9 +46,9 @@ struct MultiDual {
   // (8 with AVX-512, 4 with AVX, 2 with SSE2: the build's instruction set, KANESENS_ARCH in
   // CMakeLists.txt), narrowed to 2 or 4 for N ≤ 2 or ≤ 4: idle lanes are not free (processors
   // that split 512-bit operations in two halves pay for all eight; docs/benchmarks.md), and the
-  // tangent arithmetic is lane by lane, so the values do not depend on the width. 8-byte aligned so that the struct
-  // has no padding (GCC copies padding through the stack, which stalls the next load of the
-  // value).
+  // tangent arithmetic is lane by lane, so the values do not depend on the width. 8-byte
+  // aligned so that the struct has no padding (GCC copies padding through the stack, which
+  // stalls the next load of the value).
 #if defined(__AVX512F__)
   static constexpr int register_lanes = 8;
 #elif defined(__AVX__)
@@ -255,6 +255,14 @@ bool isfinite(const MultiDual<N>& a) {
   for (int i = 0; i < N; ++i) ok = ok && std::isfinite(a.d(i));
   return ok;
 }
+
+// The compiled widths, widest first: the blocks of the Jacobian's and the sensitivities' passes
+// (sim/tangent_blocks.hpp) and every explicit instantiation of the templated engine take them
+// from here. X names the type as math::MultiDual<N>, for use inside namespace kanesens.
+#define KANESENS_MULTI_DUAL_WIDTHS 16, 12, 10, 8, 6, 4, 2
+#define KANESENS_FOR_EACH_MULTI_DUAL(X)                                                              \
+  X(math::MultiDual<16>) X(math::MultiDual<12>) X(math::MultiDual<10>) X(math::MultiDual<8>) \
+  X(math::MultiDual<6>) X(math::MultiDual<4>) X(math::MultiDual<2>)
 
 }  // namespace kanesens::math
 

@@ -23,23 +23,12 @@ void evaluate_parameter_values(const Model& m, const S* given, S* parameters, S*
     if (m.parameters[i].derived) parameters[i] = m.parameters[i].value.evaluate(in);
   for (Slot s : m.parameter_slots) values[s] = m.expressions[s].evaluate(in);
 }
-template void evaluate_parameter_values<double>(const Model&, const double*, double*, double*);
-template void evaluate_parameter_values<Dual>(const Model&, const Dual*, Dual*, Dual*);
-template void evaluate_parameter_values<math::Dual2>(const Model&, const math::Dual2*, math::Dual2*, math::Dual2*);
-template void evaluate_parameter_values<math::MultiDual<2>>(const Model&, const math::MultiDual<2>*,
-                                                             math::MultiDual<2>*, math::MultiDual<2>*);
-template void evaluate_parameter_values<math::MultiDual<4>>(const Model&, const math::MultiDual<4>*,
-                                                             math::MultiDual<4>*, math::MultiDual<4>*);
-template void evaluate_parameter_values<math::MultiDual<6>>(const Model&, const math::MultiDual<6>*,
-                                                             math::MultiDual<6>*, math::MultiDual<6>*);
-template void evaluate_parameter_values<math::MultiDual<8>>(const Model&, const math::MultiDual<8>*,
-                                                             math::MultiDual<8>*, math::MultiDual<8>*);
-template void evaluate_parameter_values<math::MultiDual<10>>(const Model&, const math::MultiDual<10>*,
-                                                             math::MultiDual<10>*, math::MultiDual<10>*);
-template void evaluate_parameter_values<math::MultiDual<12>>(const Model&, const math::MultiDual<12>*,
-                                                             math::MultiDual<12>*, math::MultiDual<12>*);
-template void evaluate_parameter_values<math::MultiDual<16>>(const Model&, const math::MultiDual<16>*,
-                                                             math::MultiDual<16>*, math::MultiDual<16>*);
+#define KANESENS_INSTANTIATE(S) template void evaluate_parameter_values<S>(const Model&, const S*, S*, S*);
+KANESENS_INSTANTIATE(double)
+KANESENS_INSTANTIATE(Dual)
+KANESENS_INSTANTIATE(math::Dual2)
+KANESENS_FOR_EACH_MULTI_DUAL(KANESENS_INSTANTIATE)
+#undef KANESENS_INSTANTIATE
 
 std::optional<ParameterProblem> find_parameter_problem(const Model& model, const double* parameters) {
   std::vector<double> given(parameters, parameters + model.nparam()), values(model.expressions.size(), 0.0);

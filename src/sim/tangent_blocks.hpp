@@ -1,7 +1,7 @@
 // Directions evaluated in multi-tangent passes (math/multi_dual.hpp): k directions (Jacobian
-// columns, sensitivities) split into blocks of the compiled widths 2, 4, 6, 8, 10, 12, 16, each with
-// its own workspace (its parameter tangents set once per sample), embedding scratch and seeded state.
-// Allocated at construction; evaluating a block allocates nothing.
+// columns, sensitivities) split into blocks of the compiled widths (KANESENS_MULTI_DUAL_WIDTHS:
+// 2 to 16), each with its own workspace (its parameter tangents set once per sample), embedding
+// scratch and seeded state. Allocated at construction; evaluating a block allocates nothing.
 #pragma once
 #include <algorithm>
 #include <memory>
@@ -63,6 +63,6 @@ class TangentBlockSet {
   std::tuple<Blocks<W>...> blocks_;
 };
 
-using TangentBlocks = TangentBlockSet<16, 12, 10, 8, 6, 4, 2>;
+using TangentBlocks = TangentBlockSet<KANESENS_MULTI_DUAL_WIDTHS>;
 
 }  // namespace kanesens::sim
