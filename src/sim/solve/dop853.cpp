@@ -124,6 +124,7 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
   const double h_max = options.max_step > 0 ? options.max_step : times.back() - times.front();
   double h = 0;
   bool rejected = false;  // the last trial step was rejected
+  double err_old = 1e-4;  // the last accepted step's error (dop853.f's FACOLD)
   std::size_t k = 1;      // the next output
   try {
     if (times.size() > 1) {
@@ -175,7 +176,10 @@ IntegrationResult integrate_dop853(OdeProblem& problem, const SolverOptions& opt
                             ")");
         continue;
       }
-      double factor = err == 0 ? max_factor : std::min(max_factor, std::max(min_factor, safety * std::pow(err, error_exponent)));
+      double factor = err == 0 ? max_factor
+                               : std::min(max_factor, std::max(min_factor, safety * std::pow(err, error_exponent) *
+                                                                               std::pow(err_old, beta)));
+      err_old = std::max(err, 1e-4);
       if (rejected) factor = std::min(factor, 1.0);
       rejected = false;
       const double t_new = to_end ? t_end : t + h_try;
