@@ -133,25 +133,19 @@ class Stepper {
   // and the scaled error (≤ 1: accept). Returns NaN if a stage is not finite.
   double step(double t, double h, SolverStats& stats) {
     for (int i = 1; i < dop853::stages; ++i) {
-      for (std::size_t j = 0; j < N_; ++j) {
-        double s = 0;
-        for (int l = 0; l < i; ++l) s += dop853::a[i][l] * k_[static_cast<std::size_t>(l)][j];
-        stage_[j] = z[j] + h * s;
-      }
+      combine(dop853::a[i], i, stage_);
+      for (std::size_t j = 0; j < N_; ++j) stage_[j] = z[j] + h * stage_[j];
       f(t + dop853::c[i] * h, stage_, k_[static_cast<std::size_t>(i)], stats);
     }
+    combine(dop853::b, dop853::stages, sum_);
+    combine(dop853::e5, dop853::stages, e5_);
     double e5n = 0, e3n = 0;
     bool finite = true;
+    const double *k0 = k_[0].data(), *k8 = k_[8].data(), *k11 = k_[11].data();
     for (std::size_t j = 0; j < N_; ++j) {
-      double s = 0, e3 = 0, e5 = 0;
-      for (int l = 0; l < dop853::stages; ++l) {
-        const double kl = k_[static_cast<std::size_t>(l)][j];
-        s += dop853::b[l] * kl;
-        e3 += dop853::b[l] * kl;
-        e5 += dop853::e5[l] * kl;
-      }
+      const double s = sum_[j], e5 = e5_[j];
       // e3 = b − bhat3: bhat3 is nonzero in three places only.
-      e3 -= dop853::bhat3_0 * k_[0][j] + dop853::bhat3_8 * k_[8][j] + dop853::bhat3_11 * k_[11][j];
+      const double e3 = s - (dop853::bhat3_0 * k0[j] + dop853::bhat3_8 * k8[j] + dop853::bhat3_11 * k11[j]);
       z_new[j] = z[j] + h * s;
       finite = finite && std::isfinite(z_new[j]);
       if (!controlled_[j]) continue;
@@ -176,11 +170,8 @@ class Stepper {
   void prepare_dense(double t, double h, SolverStats& stats) {
     constexpr int S = dop853::stages + 1;  // stages 1..13, the 13th f at the new point
     for (int i = 0; i < dop853::dense_stages; ++i) {
-      for (std::size_t j = 0; j < N_; ++j) {
-        double s = 0;
-        for (int l = 0; l < S + i; ++l) s += dop853::a_dense[i][l] * k_[static_cast<std::size_t>(l)][j];
-        stage_[j] = z[j] + h * s;
-      }
+      combine(dop853::a_dense[i], S + i, stage_);
+      for (std::size_t j = 0; j < N_; ++j) stage_[j] = z[j] + h * stage_[j];
       auto& ki = k_[static_cast<std::size_t>(S + i)];
       f(t + dop853::c_dense[i] * h, stage_, ki, stats);
       for (double v : ki)
@@ -194,11 +185,11 @@ class Stepper {
       rcont_[1][j] = dy;
       rcont_[2][j] = bspl;
       rcont_[3][j] = dy - h * k_[dop853::stages][j] - bspl;
-      for (int r = 0; r < 4; ++r) {
-        double s = 0;
-        for (int l = 0; l < S + dop853::dense_stages; ++l) s += dop853::d[r][l] * k_[static_cast<std::size_t>(l)][j];
-        rcont_[static_cast<std::size_t>(4 + r)][j] = h * s;
-      }
+    }
+    for (int r = 0; r < 4; ++r) {
+      auto& c = rcont_[static_cast<std::size_t>(4 + r)];
+      combine(dop853::d[r], S + dop853::dense_stages, c);
+      for (std::size_t j = 0; j < N_; ++j) c[j] *= h;
     }
     dense_t_ = t;
     dense_h_ = h;
@@ -269,6 +260,26 @@ class Stepper {
   }
   std::vector<double>& first_stage() { return k_[0]; }
 
+ private:
+  // out = Σ_l w[l]·k_l over l < count, term by term in the order of l: the sums of the
+  // tableau's rows, each a pass over the stacked state that the compiler vectorises, and the
+  // tableau's zero weights skipped (they add exact zeros).
+  void combine(const double* w, int count, std::vector<double>& out) const {
+    double* o = out.data();
+    bool first = true;
+    for (int l = 0; l < count; ++l) {
+      const double wl = w[l];
+      if (wl == 0) continue;
+      const double* kl = k_[static_cast<std::size_t>(l)].data();
+      if (first)
+        for (std::size_t j = 0; j < N_; ++j) o[j] = wl * kl[j];
+      else
+        for (std::size_t j = 0; j < N_; ++j) o[j] += wl * kl[j];
+      first = false;
+    }
+    if (first) std::fill(out.begin(), out.end(), 0.0);
+  }
+
  public:
   std::vector<double> z, z_new;  // the current state and the trial step's (stacked)
   std::string recoverable_message;  // the last RecoverableError of the right-hand side
@@ -280,6 +291,7 @@ class Stepper {
   int ns_;
   std::size_t N_;
   std::vector<double> stage_, atol_;
+  std::vector<double> sum_ = std::vector<double>(N_), e5_ = std::vector<double>(N_);  // step()'s sums
   std::vector<unsigned char> controlled_;
   double n_controlled_ = 1, rtol_ = 0;
   std::vector<std::vector<double>> k_;  // stages 1..13, then the dense output's 14..16
