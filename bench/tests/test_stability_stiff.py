@@ -6,8 +6,8 @@ so RK4 is stable only for h below about 2.8/5720 = 4.9e-4 s.
 Pinned: RK4 with h = 2e-3 blows up (a non-finite state, or the mass matrix of a blown-up state
 fails: a failed row, not a crash), with h = 4e-4 it is accurate; BDF at rtol 1e-4 takes a few
 dozen steps with ~1e-3 error; both Adams variants, DOP853 and RK4 need orders of magnitude more
-steps (their stability limits, not accuracy, set h: DOP853 takes ~520 steps, a third of its
-trials rejected, at every tolerance)."""
+steps (their stability limits, not accuracy, set h: DOP853 takes ~550 steps at every
+tolerance)."""
 from workprecision_support import row, rows, run
 
 

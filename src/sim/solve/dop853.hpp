@@ -8,11 +8,13 @@
 // Error control: the local error estimate of Hairer's dop853.f (its 5th- and 3rd-order
 // embedded solutions), in the RMS norm over the controlled components with scale
 // atol_i + rtol·max(|y_i|, |y_new_i|) (atol_per_state when given); the step factor is
-// 0.9·err^(−1/8), limited to [0.2, 6] (≤ 1 right after a rejection). Initial step: Hairer's
-// estimate (ibid. §II.4) unless solver.initial_step is set; solver.max_step bounds it.
+// 0.9·err^−(1/8 − 0.2β)·err_old^β with β = 0.06 (control with memory, dop853.f's BETA),
+// limited to [0.2, 6] (≤ 1 right after a rejection). Initial step: Hairer's estimate
+// (ibid. §II.4) unless solver.initial_step is set; solver.max_step bounds it.
 //
-// Outputs: steps are shortened to land on every output time exactly (no dense output), so
-// many closely spaced outputs cost extra steps; the step size before the shortening is kept.
+// Outputs: read from the order-7 continuous extension (dop853.f's CONTD8, three more
+// evaluations in a step that holds output times); the steps follow the error control, only
+// the last one is cut to land on the final time.
 //
 // Sensitivities (exact sensitivity_rhs only): integrated with the states by the same stages
 // (internal differentiation, as integrate_rk4), so they are the exact derivatives of the
