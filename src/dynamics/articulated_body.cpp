@@ -508,12 +508,18 @@ bool articulated_body_accelerations_planar(const Model& m, Workspace<S>& ws) {
     S U0 = S(0), U1 = S(0), U2 = S(0), d = S(0), u = S(0);
     if (J.nu == 1) {
       const PVec<S>& s = ws.partial_planar[k0];
-      U0 = I00 * s[0] + I01 * s[1] + I02 * s[2];
-      U1 = I01 * s[0] + I11 * s[1] + I12 * s[2];
-      U2 = I02 * s[0] + I12 * s[1] + I22 * s[2];
-      d = s[0] * U0 + s[1] * U1 + s[2] * U2;
+      if (double sg; constant_planar_rotation(m, ws, k0, sg)) {
+        U0 = I00 * sg, U1 = I01 * sg, U2 = I02 * sg;
+        d = U0 * sg;
+        u = ws.forcing[k0] - p[0] * sg;
+      } else {
+        U0 = I00 * s[0] + I01 * s[1] + I02 * s[2];
+        U1 = I01 * s[0] + I11 * s[1] + I12 * s[2];
+        U2 = I02 * s[0] + I12 * s[1] + I22 * s[2];
+        d = s[0] * U0 + s[1] * U1 + s[2] * U2;
+        u = ws.forcing[k0] - (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]);
+      }
       if (!(math::value_of(d) > 0)) return false;
-      u = ws.forcing[k0] - (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]);
     }
     const S dinv = J.nu == 1 ? S(1.0 / d) : S(0);
     // U' = Xᵀ U, W = U'/D.
@@ -562,7 +568,10 @@ bool articulated_body_accelerations_planar(const Model& m, Workspace<S>& ws) {
     a2 += a0 * rx;
     if (J.nu == 1) {
       const PVec<S>& s = ws.partial_planar[k0];
-      a0 += s[0] * ud, a1 += s[1] * ud, a2 += s[2] * ud;
+      if (double sg; constant_planar_rotation(m, ws, k0, sg))
+        a0 += ud * sg;
+      else
+        a0 += s[0] * ud, a1 += s[1] * ud, a2 += s[2] * ud;
     }
     ws.articulated_bias_planar[J.child] = {a0, a1, a2};
     carried = J.child;

@@ -100,8 +100,16 @@ void compute_velocity_planar(const Model& m, Workspace<S>& ws, const S* u) {
     }
     const S* uj = u + J.u_offset;
     const PVec<S>* s = ws.partial_planar.data() + J.u_offset;
-    for (int k = 0; k < J.nu; ++k) prefix[k + 1] = prefix[k] + s[k] * uj[k];
-    for (int k = 0; k < J.nu; ++k) A += cross_motion_planar<S>(prefix[J.speeds[k].carriers], s[k]) * uj[k];
+    if (double sg; J.nu == 1 && constant_planar_rotation(m, ws, J.u_offset, sg)) {
+      const S w = uj[0] * sg;
+      prefix[1] = PVec<S>(prefix[0][0] + w, prefix[0][1], prefix[0][2]);
+      const PVec<S>& a = prefix[J.speeds[0].carriers];
+      A[1] += a[2] * w;
+      A[2] -= a[1] * w;
+    } else {
+      for (int k = 0; k < J.nu; ++k) prefix[k + 1] = prefix[k] + s[k] * uj[k];
+      for (int k = 0; k < J.nu; ++k) A += cross_motion_planar<S>(prefix[J.speeds[k].carriers], s[k]) * uj[k];
+    }
     const PVec<S>& V = prefix[J.nu];
     ws.velocity_planar[C] = V;
     ws.bias_planar[C] = A;

@@ -24,4 +24,16 @@ void compute_body_wrenches_planar(const Model& m, Workspace<S>& ws);
 template <class S>
 bool articulated_body_accelerations_planar(const Model& m, Workspace<S>& ws);
 
+// True for a speed k whose partial velocity is a rotation about ±z through Q_C with a constant
+// axis, s = (σ, 0, 0), σ = ±1 (returned in sign): the stages multiply by the number σ and skip
+// the zero entries, with the same values as the general sums (up to the sign of a zero).
+template <class S>
+bool constant_planar_rotation(const Model& m, const Workspace<S>& ws, int k, double& sign) {
+  using math::has_tangent, math::value_of;  // and, by argument lookup, the tangent scalars' own
+  const S& s0 = ws.partial_planar[static_cast<std::size_t>(k)][0];
+  if (!m.speed_rotation[static_cast<std::size_t>(k)] || has_tangent(s0)) return false;
+  sign = value_of(s0);
+  return true;
+}
+
 }  // namespace kanesens::dynamics::detail
