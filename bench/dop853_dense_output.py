@@ -7,7 +7,7 @@ integration (stats.wall_seconds) and of the whole command; accuracy: the largest
 states and of the sensitivities at the output times against a reference run at rtol 1e-13
 (the "before" build, which lands on every output time).
 
-    /usr/bin/python3 bench/dop853_dense_output.py BEFORE_EXE AFTER_EXE [--repeat R] [--out JSON] [--floor]
+    /usr/bin/python3 bench/dop853_dense_output.py BEFORE_EXE AFTER_EXE [--repeat R] [--out JSON] [--floor] [--tolerances 1e-6,1e-8,...]
 
 --floor adds the AFTER build with 2 output times ("floor"): the same steps without the dense
 output's three extra evaluations, the least time any interpolation could cost. --also LABEL=EXE
@@ -64,7 +64,10 @@ def main() -> int:
     ap.add_argument("--out", default=str(HERE / "results" / "dop853_dense_output.json"))
     ap.add_argument("--floor", action="store_true")
     ap.add_argument("--also", action="append", default=[], metavar="LABEL=EXE")
+    ap.add_argument("--tolerances", default=",".join(f"{t:.0e}" for t in TOLERANCES),
+                    help="comma-separated rtol values (default: %(default)s)")
     a = ap.parse_args()
+    tolerances = [float(t) for t in a.tolerances.split(",")]
     builds = {"before": a.before, "after": a.after}
     if a.floor:
         builds["floor"] = a.after
@@ -79,22 +82,22 @@ def main() -> int:
         ref_path.write_text(study(1e-13))
         ref, _ = simulate(a.before, ref_path)
         files = {}
-        for rtol in TOLERANCES:
+        for rtol in tolerances:
             for b in builds:
                 p = Path(d) / f"rtol_{rtol:.0e}_{b}.yaml"
                 p.write_text(study(rtol, 2 if b == "floor" else 251))
                 files[(b, rtol)] = p
-        integ = {(b, r): [] for b in builds for r in TOLERANCES}
-        whole = {(b, r): [] for b in builds for r in TOLERANCES}
+        integ = {(b, r): [] for b in builds for r in tolerances}
+        whole = {(b, r): [] for b in builds for r in tolerances}
         last = {}
         for _ in range(a.repeat):
-            for rtol in TOLERANCES:
+            for rtol in tolerances:
                 for b, exe in builds.items():
                     out, w = simulate(exe, files[(b, rtol)])
                     integ[(b, rtol)].append(out["stats"]["wall_seconds"])
                     whole[(b, rtol)].append(w)
                     last[(b, rtol)] = out
-        for rtol in TOLERANCES:
+        for rtol in tolerances:
             for b in builds:
                 out = last[(b, rtol)]
                 rows.append({
@@ -109,7 +112,8 @@ def main() -> int:
                 })
     result = {
         "command": " ".join(["bench/dop853_dense_output.py", a.before, a.after, "--repeat", str(a.repeat)]
-                            + (["--floor"] if a.floor else []) + [f"--also {x}" for x in a.also]),
+                            + (["--floor"] if a.floor else []) + [f"--also {x}" for x in a.also]
+                            + ([f"--tolerances {a.tolerances}"] if tolerances != TOLERANCES else [])),
         "revision": c.git_revision(), "cpu": c.cpu_model(), "nproc": c.nproc(), "loadavg": c.loadavg(),
         "study": "configs/nlink_chain_4.yaml, 10 s, 251 output times, dop853, atol = 1e-2 rtol, "
                  "sensitivities to m and L; reference: the before build at rtol 1e-13",
@@ -118,7 +122,7 @@ def main() -> int:
     Path(a.out).write_text(json.dumps(result, indent=2) + "\n")
     print("| rtol | build | steps | rhs evals | integration s (median) | ratio to before | max state error | max sensitivity error |")
     print("|---|---|---|---|---|---|---|---|")
-    for rtol in TOLERANCES:
+    for rtol in tolerances:
         b = next(r for r in rows if r["rtol"] == rtol and r["build"] == "before")
         for r in (r for r in rows if r["rtol"] == rtol):
             ratio = r["integration_seconds_median"] / b["integration_seconds_median"]
@@ -129,7 +133,7 @@ def main() -> int:
     print()
     print("| before's rtol | before's state error | " + " | ".join(f"{b}: time ratio at that error" for b in others) + " |")
     print("|---|---|" + "---|" * len(others))
-    for rtol in TOLERANCES:
+    for rtol in tolerances:
         b = next(r for r in rows if r["rtol"] == rtol and r["build"] == "before")
         cells = []
         for o in others:

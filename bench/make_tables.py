@@ -212,6 +212,10 @@ def sensitivity_cost_two():
     return driver_table("sensitivity_cost", "sensitivity_cost_two.json")
 
 
+def sensitivity_cost_control():
+    return driver_table("sensitivity_cost", "sensitivity_cost_control.json")
+
+
 def dop853_step_control():
     return driver_table("dop853_step_control", "dop853_step_control.json")
 
@@ -910,7 +914,7 @@ TABLES = {
     "jacobian_cost_width6": jacobian_cost_width6, "sensitivity_cost_width6": sensitivity_cost_width6,
     "jacobian_cost_gradient": jacobian_cost_gradient, "sensitivity_cost_gradient": sensitivity_cost_gradient,
     "jacobian_cost_current": jacobian_cost_current, "sensitivity_cost_current": sensitivity_cost_current,
-    "sensitivity_cost_fused": sensitivity_cost_fused, "sensitivity_cost_two": sensitivity_cost_two, "dop853_step_control": dop853_step_control, "sensitivity_cost_vector_ops": sensitivity_cost_vector_ops, "sensitivity_cost_no_error_control": sensitivity_cost_no_error_control,
+    "sensitivity_cost_fused": sensitivity_cost_fused, "sensitivity_cost_two": sensitivity_cost_two, "dop853_step_control": dop853_step_control, "sensitivity_cost_control": sensitivity_cost_control, "sensitivity_cost_vector_ops": sensitivity_cost_vector_ops, "sensitivity_cost_no_error_control": sensitivity_cost_no_error_control,
     "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,
