@@ -154,6 +154,11 @@ def fmt_list(xs) -> str:
     return ",".join(repr(x) for x in xs)
 
 
+def flatten(x) -> list:
+    """The numbers of a nested list (a JSON series of rows), in order; a number as [x]."""
+    return [v for row in x for v in flatten(row)] if isinstance(x, list) else [x]
+
+
 def max_err(y, ref) -> float:
     return float(max(abs(a - b) for a, b in zip(y, ref)))
 

@@ -51,9 +51,7 @@ def simulate(exe: str, path: Path) -> tuple[dict, float]:
 
 
 def max_error(run: dict, ref: dict, key: str) -> float:
-    def flat(x):
-        return [v for row in x for v in (flat(row) if isinstance(row, list) else [row])] if isinstance(x, list) else [x]
-    return max(abs(a - b) for a, b in zip(flat(run[key]), flat(ref[key])))
+    return c.max_err(c.flatten(run[key]), c.flatten(ref[key]))
 
 
 def main() -> int:

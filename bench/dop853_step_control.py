@@ -43,10 +43,6 @@ CASES = {
 }
 
 
-def flat(x):
-    return [v for row in x for v in (flat(row) if isinstance(row, list) else [row])] if isinstance(x, list) else [x]
-
-
 def run(exe: str, study: str, rtol: float, sens: str) -> dict:
     args = [exe, "simulate", study, "--set", "solver.method=dop853", "--set", f"solver.rtol={rtol:.1e}",
             "--set", f"solver.atol={rtol * 1e-2:.1e}", "--sens", sens or "none"]
@@ -57,15 +53,12 @@ def run(exe: str, study: str, rtol: float, sens: str) -> dict:
 
 
 def at_equal_accuracy(before: list[dict], after: list[dict]) -> tuple[float, int]:
-    line = sorted(after, key=lambda p: p["error"])
+    line = [(p["rtol"], p["error"], p["rhs_evals"]) for p in after]  # loose to tight
     logs = []
     for p in before:
-        for a, b in zip(line, line[1:]):
-            if a["error"] <= p["error"] <= b["error"] and b["error"] > a["error"] > 0:
-                w = (math.log(p["error"]) - math.log(a["error"])) / (math.log(b["error"]) - math.log(a["error"]))
-                evals = math.exp((1 - w) * math.log(a["rhs_evals"]) + w * math.log(b["rhs_evals"]))
-                logs.append(math.log(evals / p["rhs_evals"]))
-                break
+        evals, how = c.time_at(line, p["error"])  # log-log between AFTER's neighbouring tolerances
+        if how == "=":
+            logs.append(math.log(evals / p["rhs_evals"]))
     return (math.exp(sum(logs) / len(logs)) if logs else float("nan")), len(logs)
 
 
@@ -86,13 +79,13 @@ def measure(out: str, exes: list[tuple[str, str]]) -> None:
             study = os.path.join(tmp, "study.yaml")
             with open(study, "w") as f:
                 f.write(text)
-            reference = flat(run(exes[0][1], study, 1e-13, sens)["states"])
+            reference = c.flatten(run(exes[0][1], study, 1e-13, sens)["states"])
             case = {"name": name, "sensitivities": sens, "study": text, "points": {}}
             for label, exe in exes:
                 case["points"][label] = []
                 for rtol in TOLERANCES:
                     d = run(exe, study, rtol, sens)
-                    error = max(abs(a - b) for a, b in zip(flat(d["states"]), reference))
+                    error = c.max_err(c.flatten(d["states"]), reference)
                     s = d["stats"]
                     case["points"][label].append({"rtol": rtol, "rhs_evals": s["rhs_evals"], "steps": s["steps"],
                                                   "rejected": s["error_test_fails"], "error": error})
