@@ -5,15 +5,20 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace kanesens::sim {
 
 namespace {
 
 struct Content {
-  explicit Content(sunindextype size) : n(size), lu(size), scratch(size) {}
+  explicit Content(sunindextype size)
+      : n(size), lu(size), inverse_pivots(size), source_rows(static_cast<std::size_t>(size)), scratch(size) {}
   sunindextype n;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;  // sized once: compute() and solves allocate nothing
+  Eigen::VectorXd inverse_pivots;           // 1 / U(k, k)
+  std::vector<int> source_rows;             // (P b)[k] = b[source_rows[k]]
   Eigen::VectorXd scratch;                  // b when the solve is in place (x = b)
   sunindextype last_flag = SUNLS_SUCCESS;
 };
@@ -34,9 +39,68 @@ int setup(SUNLinearSolver S, SUNMatrix A) {
   c.lu.compute(Eigen::Map<const Eigen::MatrixXd>(SUNDenseMatrix_Data(A), c.n, c.n));
   // PartialPivLU does not stop at a zero pivot; U's diagonal tells.
   const auto pivots = c.lu.matrixLU().diagonal();
-  for (Eigen::Index k = 0; k < pivots.size(); ++k)
+  for (Eigen::Index k = 0; k < pivots.size(); ++k) {
     if (!(pivots[k] != 0) || !std::isfinite(pivots[k])) return static_cast<int>(c.last_flag = SUNLS_LUFACT_FAIL);
+    c.inverse_pivots[k] = 1.0 / pivots[k];
+  }
+  const auto& rows = c.lu.permutationP().indices();  // (P b)[rows[i]] = b[i]
+  for (Eigen::Index i = 0; i < c.n; ++i) c.source_rows[static_cast<std::size_t>(rows[i])] = static_cast<int>(i);
   return static_cast<int>(c.last_flag = SUNLS_SUCCESS);
+}
+
+// The substitutions by hand: Eigen's triangularView solves go through its blocked
+// panel-and-GEMV path even at the sizes of a mechanism's state, several times slower there
+// (bench/dense_lu_solve.cpp), and CVODES asks for one solve per Newton iteration and
+// sensitivity.
+
+// x = U⁻¹ L⁻¹ P b for n = N known at compile time, column by column on the column-major factor
+// (L unit lower): the loops unroll and the vector stays in registers (b may be x: it is read
+// whole before x is written).
+template <int N>
+void solve_sized(const Content& c, const double* b, double* x) {
+  const double* lu = c.lu.matrixLU().data();
+  const double* inverse_pivots = c.inverse_pivots.data();
+  double v[N];
+#pragma GCC unroll 16
+  for (int k = 0; k < N; ++k) v[k] = b[c.source_rows[static_cast<std::size_t>(k)]];
+#pragma GCC unroll 16
+  for (int j = 0; j < N; ++j) {  // L y = P b
+#pragma GCC unroll 16
+    for (int i = j + 1; i < N; ++i) v[i] -= lu[j * N + i] * v[j];
+  }
+#pragma GCC unroll 16
+  for (int j = N - 1; j >= 0; --j) {  // U x = y
+    v[j] *= inverse_pivots[j];
+#pragma GCC unroll 16
+    for (int i = 0; i < j; ++i) v[i] -= lu[j * N + i] * v[j];
+  }
+#pragma GCC unroll 16
+  for (int k = 0; k < N; ++k) x[k] = v[k];
+}
+
+// The same for any n, in x. (Written once for both would lose the registers: GCC keeps the
+// local array in memory when the loops take n as an argument.)
+void solve_any(Content& c, const double* b, double* x) {
+  const Eigen::Index n = c.n;
+  if (x == b) {
+    c.scratch = Eigen::Map<const Eigen::VectorXd>(b, n);
+    b = c.scratch.data();
+  }
+  for (Eigen::Index k = 0; k < n; ++k) x[k] = b[c.source_rows[static_cast<std::size_t>(k)]];
+  const double* lu = c.lu.matrixLU().data();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double xj = x[j];
+    for (Eigen::Index i = j + 1; i < n; ++i) x[i] -= lu[j * n + i] * xj;
+  }
+  for (Eigen::Index j = n - 1; j >= 0; --j) {
+    const double xj = x[j] *= c.inverse_pivots[j];
+    for (Eigen::Index i = 0; i < j; ++i) x[i] -= lu[j * n + i] * xj;
+  }
+}
+
+template <int... N>
+void solve_dispatch(Content& c, const double* b, double* x, std::integer_sequence<int, N...>) {
+  if (!((c.n == N + 1 && (solve_sized<N + 1>(c, b, x), true)) || ...)) solve_any(c, b, x);
 }
 
 int solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype) {
@@ -44,17 +108,7 @@ int solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype) {
   double* xd = N_VGetArrayPointer(x);
   const double* bd = N_VGetArrayPointer(b);
   if (xd == nullptr || bd == nullptr) return static_cast<int>(c.last_flag = SUNLS_MEM_FAIL);
-  // x = P b gathered from another vector (Eigen permutes a vector in place only with a mask it
-  // allocates), then the two triangular solves in place.
-  Eigen::Map<Eigen::VectorXd> v(xd, c.n);
-  if (xd == bd) {
-    c.scratch = v;
-    v = c.lu.permutationP() * c.scratch;
-  } else {
-    v = c.lu.permutationP() * Eigen::Map<const Eigen::VectorXd>(bd, c.n);
-  }
-  c.lu.matrixLU().template triangularView<Eigen::UnitLower>().solveInPlace(v);
-  c.lu.matrixLU().template triangularView<Eigen::Upper>().solveInPlace(v);
+  solve_dispatch(c, bd, xd, std::make_integer_sequence<int, 16>{});
   return static_cast<int>(c.last_flag = SUNLS_SUCCESS);
 }
 

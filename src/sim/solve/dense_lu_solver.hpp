@@ -1,12 +1,14 @@
 // Newton's dense linear solver for CVODES: (I − γJ) x = b by Eigen's LU with partial pivoting
-// (PartialPivLU, sized once), behind SUNDIALS's generic SUNLinearSolver interface.
+// (PartialPivLU, sized once) and substitutions written out for small sizes, behind SUNDIALS's
+// generic SUNLinearSolver interface.
 //
 // Why not SUNLinSol_Dense: CVODES solves once per Newton iteration for the state and once more
 // for each sensitivity (the simultaneous corrector), so on the small systems here the solves
 // are a large share of a run with sensitivities, and SUNDIALS's GETRS (a division on every step
 // of the back substitution's dependent chain, loops through column pointers that may alias the
 // right-hand side) is the slower one at every size measured (bench/dense_lu_solve.cpp,
-// bench/results/dense_lu_solve.json).
+// bench/results/dense_lu_solve.json). Eigen's own triangular solves take its blocked path even
+// at these sizes; the substitutions here use the reciprocal pivots formed at setup.
 //
 // Setup returns SUNLS_LUFACT_FAIL (recoverable: CVODES retries with a smaller step) on a zero or
 // non-finite pivot, as SUNLinSol_Dense does on a zero one.
