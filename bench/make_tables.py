@@ -161,6 +161,10 @@ def sensitivity_cost_dense_solve():
     return driver_table("sensitivity_cost", "sensitivity_cost_dense_solve.json")
 
 
+def bdf_machinery():
+    return driver_table("bdf_machinery", "bdf_machinery.json")
+
+
 def sensitivity_cost_planar_recursion():
     return driver_table("sensitivity_cost", "sensitivity_cost_planar_recursion.json")
 
@@ -914,6 +918,7 @@ TABLES = {
     "sensitivity_cost_residual": sensitivity_cost_residual,
     "sensitivity_cost_dense_lu": sensitivity_cost_dense_lu,
     "sensitivity_cost_dense_solve": sensitivity_cost_dense_solve,
+    "bdf_machinery": bdf_machinery,
     "dense_lu_solve": dense_lu_solve,
     "sensitivity_cost_planar_recursion": sensitivity_cost_planar_recursion,
     "sensitivity_cost_arch": sensitivity_cost_arch,

@@ -1,0 +1,138 @@
+"""How much of a BDF solve with sensitivities is the integrator's own work, and what that leaves
+for the cost per added sensitivity however cheap the sensitivity passes become.
+
+  bdf_machinery.py OUT.json EXE [--scenes a,b] [--repeat R] [--set key=value ...]
+  bdf_machinery.py --table OUT.json
+
+For each scene of sensitivity_cost.py, `kanesens simulate` with BDF, plain and with the scene's
+six sensitivities: the time of a solve (median of R − 1 repeated solves after the first in one
+process) and a sampled profile (Linux `perf record -e cpu-clock`, R solves and at least two
+seconds of them). Each sample is
+"integrator" when it lies in libsundials_cvodes (CVODES's steps, corrector, error test and
+Nordsieck history), in the serial N_Vector operations that kanesens installs for it
+(sim/solve/serial_vector_ops.cpp) or in Newton's dense solves (sim/solve/dense_lu_solver.cpp),
+and "dynamics" otherwise (right-hand sides, sensitivity passes, Jacobians, outputs).
+
+With t_p, t_s the plain and sensitivity solves, m_p, m_s their integrator shares, n_p, n_s their
+steps and Ns the sensitivities:
+  per added sensitivity          (t_s − t_p) / (Ns t_p)
+  bound with free passes         (m_s t_s + (1 − m_p) t_p n_s / n_p − t_p) / (Ns t_p):
+                                 the integrator's work as measured, the plain right-hand sides
+                                 at the steps the sensitivities' error test takes, nothing for
+                                 the sensitivity passes.
+"""
+from __future__ import annotations
+
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+
+from common import ROOT, load_json, provenance, table_or_usage, write_json
+from sensitivity_cost import GENERATED, SCENES
+
+DEFAULT_SCENES = ["arm_3d", "chain8_spatial", "chain4_planar", "rolling_disc", "four_bar_multipliers"]
+INTEGRATOR_SYMBOLS = re.compile(r"sim::\(anonymous namespace\)::(op_\w+|linear_sum|scale|combination|"
+                                r"weighted_square_sum\w*|solve)\b|partial_lu_impl")
+
+
+def shares(exe, study, sens, extra, repeat):
+    """The integrator's share of the profiled samples, and the samples counted."""
+    with tempfile.TemporaryDirectory() as tmp:
+        data = os.path.join(tmp, "perf.data")
+        subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-F", "10000", "-o", data, exe, "simulate", study,
+                        "--set", "solver.method=bdf", "--sens", sens, "--repeat", str(repeat)] + extra,
+                       check=True, capture_output=True)
+        report = subprocess.run(["perf", "report", "-i", data, "--no-children", "--sort", "dso,symbol", "--stdio",
+                                 "-F", "sample,dso,symbol"], check=True, capture_output=True, text=True).stdout
+    integrator = total = 0
+    for line in report.splitlines():
+        m = re.match(r"\s*(\d+)\s+(\S+)\s+\[.\]\s+(.*)", line)
+        if not m:
+            continue
+        n, dso, symbol = int(m.group(1)), m.group(2), m.group(3)
+        total += n
+        if "libsundials_cvodes" in dso or INTEGRATOR_SYMBOLS.search(symbol):
+            integrator += n
+    return integrator / total, total
+
+
+def solve(exe, study, sens, extra, repeat):
+    import json
+    p = subprocess.run([exe, "simulate", study, "--set", "solver.method=bdf", "--sens", sens, "--repeat", str(repeat)]
+                       + extra, capture_output=True, text=True, check=True)
+    d = json.loads(p.stdout)
+    if d["status"] != 1:
+        raise RuntimeError(f"{exe} {sens}: {d.get('message')}")
+    return statistics.median(d["stats"]["wall_seconds_repeats"][1:]), d["stats"]["steps"]
+
+
+def measure(out, exe, scenes, extra, repeat):
+    result = {**provenance(), "repeat": repeat, "rows": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        for file, make in GENERATED.items():
+            with open(os.path.join(tmp, file), "w") as f:
+                f.write(make())
+        for name in scenes:
+            text, sens, _ = SCENES[name]
+            study = os.path.join(tmp, name + ".yaml")
+            with open(study, "w") as f:
+                f.write(text.format(root=ROOT, tmp=tmp))
+            row = {"scene": name, "ns": len(sens.split(",")), "sensitivities": sens}
+            for kind, s in (("plain", "none"), ("sens", sens)):
+                t, steps = solve(exe, study, s, extra, repeat)
+                # At least two seconds of solves in the profile: some ten thousand samples.
+                share, samples = shares(exe, study, s, extra, max(repeat, int(2.0 / t) + 1))
+                row[kind] = {"seconds": t, "steps": steps, "integrator_share": share, "samples": samples}
+            result["rows"].append(row)
+            print(name, f"{row['plain']['seconds'] * 1e3:.2f} / {row['sens']['seconds'] * 1e3:.2f} ms",
+                  f"integrator {row['plain']['integrator_share']:.2f} / {row['sens']['integrator_share']:.2f}",
+                  file=sys.stderr)
+    write_json(out, result)
+
+
+def per_added(row):
+    p, s = row["plain"], row["sens"]
+    return (s["seconds"] - p["seconds"]) / (row["ns"] * p["seconds"])
+
+
+def bound_with_free_passes(row):
+    p, s = row["plain"], row["sens"]
+    floor = s["integrator_share"] * s["seconds"] + (1 - p["integrator_share"]) * p["seconds"] * s["steps"] / p["steps"]
+    return (floor - p["seconds"]) / (row["ns"] * p["seconds"])
+
+
+def table(path):
+    r = load_json(path)
+    print(f"BDF, one process per solve, each time the median of {r['repeat'] - 1} repeated solves after the first; "
+          "integrator = CVODES and the vector operations and dense solves it calls, from a sampled profile.\n")
+    print("| scene | Ns | plain solve (ms) | integrator share | with Ns sensitivities (ms) | integrator share | "
+          "steps plain / sens | per added sensitivity | bound with free sensitivity passes |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for row in r["rows"]:
+        p, s = row["plain"], row["sens"]
+        print(f"| {row['scene']} | {row['ns']} | {p['seconds'] * 1e3:.2f} | {p['integrator_share'] * 100:.0f} % | "
+              f"{s['seconds'] * 1e3:.2f} | {s['integrator_share'] * 100:.0f} % | {p['steps']} / {s['steps']} | "
+              f"{per_added(row):.2f}x | {bound_with_free_passes(row):.2f}x |")
+
+
+if __name__ == "__main__":
+    argv = sys.argv[1:]
+    table_or_usage(argv, table, __doc__)
+    scenes, extra, repeat, rest = DEFAULT_SCENES, [], 101, []
+    i = 1
+    while i < len(argv):
+        if argv[i] == "--scenes":
+            scenes = argv[i + 1].split(","); i += 2
+        elif argv[i] == "--repeat":
+            repeat = int(argv[i + 1]); i += 2
+        elif argv[i] == "--set":
+            extra += ["--set", argv[i + 1]]; i += 2
+        else:
+            rest.append(argv[i]); i += 1
+    if len(rest) != 1:
+        sys.exit(__doc__)
+    measure(argv[0], rest[0], scenes, extra, repeat)
+    table(argv[0])
