@@ -30,8 +30,8 @@ import subprocess
 import sys
 import tempfile
 
-from common import ROOT, load_json, provenance, table_or_usage, write_json
-from sensitivity_cost import GENERATED, SCENES
+from common import load_json, provenance, table_or_usage, write_json
+from sensitivity_cost import studies
 
 DEFAULT_SCENES = ["arm_3d", "chain8_spatial", "chain4_planar", "rolling_disc", "four_bar_multipliers"]
 INTEGRATOR_SYMBOLS = re.compile(r"sim::\(anonymous namespace\)::(op_\w+|linear_sum|scale|combination|"
@@ -72,14 +72,7 @@ def solve(exe, study, sens, extra, repeat):
 def measure(out, exe, scenes, extra, repeat):
     result = {**provenance(), "repeat": repeat, "rows": []}
     with tempfile.TemporaryDirectory() as tmp:
-        for file, make in GENERATED.items():
-            with open(os.path.join(tmp, file), "w") as f:
-                f.write(make())
-        for name in scenes:
-            text, sens, _ = SCENES[name]
-            study = os.path.join(tmp, name + ".yaml")
-            with open(study, "w") as f:
-                f.write(text.format(root=ROOT, tmp=tmp))
+        for name, study, sens, _ in studies(tmp, scenes):
             row = {"scene": name, "ns": len(sens.split(",")), "sensitivities": sens}
             for kind, s in (("plain", "none"), ("sens", sens)):
                 t, steps = solve(exe, study, s, extra, repeat)
@@ -119,20 +112,14 @@ def table(path):
 
 
 if __name__ == "__main__":
-    argv = sys.argv[1:]
-    table_or_usage(argv, table, __doc__)
-    scenes, extra, repeat, rest = DEFAULT_SCENES, [], 101, []
-    i = 1
-    while i < len(argv):
-        if argv[i] == "--scenes":
-            scenes = argv[i + 1].split(","); i += 2
-        elif argv[i] == "--repeat":
-            repeat = int(argv[i + 1]); i += 2
-        elif argv[i] == "--set":
-            extra += ["--set", argv[i + 1]]; i += 2
-        else:
-            rest.append(argv[i]); i += 1
-    if len(rest) != 1:
-        sys.exit(__doc__)
-    measure(argv[0], rest[0], scenes, extra, repeat)
-    table(argv[0])
+    table_or_usage(sys.argv[1:], table, __doc__)
+    import argparse
+    parser = argparse.ArgumentParser(usage=__doc__)
+    parser.add_argument("out")
+    parser.add_argument("exe")
+    parser.add_argument("--scenes", default=",".join(DEFAULT_SCENES))
+    parser.add_argument("--repeat", type=int, default=101)
+    parser.add_argument("--set", action="append", default=[])
+    a = parser.parse_args()
+    measure(a.out, a.exe, a.scenes.split(","), [w for kv in a.set for w in ("--set", kv)], a.repeat)
+    table(a.out)

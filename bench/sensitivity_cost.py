@@ -81,6 +81,20 @@ GENERATED = {"chain8_spatial_scene.yaml":
              lambda: chain_scene_yaml(8, axes="z,x").replace("{name: j1, type: revolute,", "{name: j1, q0: 0.5, type: revolute,")}
 
 
+def studies(tmp, names):
+    """Writes the generated scenes and each named scene's study into tmp; yields (name, study
+    file, its sensitivities, its methods)."""
+    for file, make in GENERATED.items():
+        with open(os.path.join(tmp, file), "w") as f:
+            f.write(make())
+    for name in names:
+        text, sens, methods = SCENES[name]
+        study = os.path.join(tmp, name + ".yaml")
+        with open(study, "w") as f:
+            f.write(text.format(root=ROOT, tmp=tmp))
+        yield name, study, sens, methods
+
+
 def run(exe, study, method, sens, extra, repeat=1):
     args = [exe, "simulate", study, "--set", f"solver.method={method}", "--sens", sens] + extra
     if repeat > 1:
@@ -98,14 +112,7 @@ def measure(out, exes, runs, scenes, extra, methods_only=None, counts=None, repe
     result = {"command": "/usr/bin/python3 bench/sensitivity_cost.py " + " ".join(sys.argv[1:]), "runs": runs,
               "repeat": repeat, "rows": []}
     with tempfile.TemporaryDirectory() as tmp:
-        for file, make in GENERATED.items():
-            with open(os.path.join(tmp, file), "w") as f:
-                f.write(make())
-        for name in scenes:
-            text, all_sens, methods = SCENES[name]
-            study = os.path.join(tmp, name + ".yaml")
-            with open(study, "w") as f:
-                f.write(text.format(root=ROOT, tmp=tmp))
+        for name, study, all_sens, methods in studies(tmp, scenes):
             for method, ns in [(m, k) for m in methods if not methods_only or m in methods_only
                                for k in (counts or [len(all_sens.split(","))])]:
                 sens = ",".join(all_sens.split(",")[:ns])
