@@ -1,7 +1,8 @@
 // Newton's dense linear solver (sim/solve/dense_lu_solver.hpp), through SUNDIALS's generic calls
 // as CVODES makes them: its solves agree with Eigen's full-pivoting LU on random matrices and on
 // ones whose diagonal vanishes (pivoting needed), in place and not; a zero or non-finite pivot
-// is a recoverable SUNLS_LUFACT_FAIL; a matrix of another size is refused.
+// (or one whose reciprocal overflows) is a recoverable SUNLS_LUFACT_FAIL; a matrix of another
+// size is refused.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -52,7 +53,8 @@ struct Solver {
 TEST(DenseLuSolver, SolvesAsEigensFullPivotingLu) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
-  for (int n : {1, 2, 3, 5, 10, 13, 16, 32, 57}) {
+  // Every size with its own unrolled substitutions (1 to 16), and larger ones.
+  for (int n : {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 32, 57}) {
     SCOPED_TRACE(n);
     Solver s(n);
     EXPECT_EQ(SUNLinSolGetType(s.ls.get()), SUNLINEARSOLVER_DIRECT);
@@ -100,6 +102,9 @@ TEST(DenseLuSolver, ReportsAZeroOrNonFinitePivotAndAWrongSize) {
   Eigen::MatrixXd with_inf = Eigen::Matrix3d::Identity();
   with_inf(1, 0) = std::numeric_limits<double>::infinity();
   EXPECT_EQ(s.setup(with_inf), SUNLS_LUFACT_FAIL);
+  Eigen::MatrixXd subnormal = Eigen::Matrix3d::Identity();
+  subnormal(1, 1) = 1e-310;  // its reciprocal overflows
+  EXPECT_EQ(s.setup(subnormal), SUNLS_LUFACT_FAIL);
   // Recovers on the next good matrix.
   EXPECT_EQ(s.setup(Eigen::Matrix3d::Identity() * 2), SUNLS_SUCCESS);
   EXPECT_EQ(s.solve(Eigen::Vector3d(2, 4, 6)), Eigen::VectorXd(Eigen::Vector3d(1, 2, 3)));

@@ -11,7 +11,7 @@
 // at these sizes; the substitutions here use the reciprocal pivots formed at setup.
 //
 // Setup returns SUNLS_LUFACT_FAIL (recoverable: CVODES retries with a smaller step) on a zero or
-// non-finite pivot, as SUNLinSol_Dense does on a zero one.
+// non-finite pivot, or one whose reciprocal overflows, as SUNLinSol_Dense does on a zero one.
 #pragma once
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
