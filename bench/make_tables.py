@@ -161,6 +161,10 @@ def sensitivity_cost_dense_solve():
     return driver_table("sensitivity_cost", "sensitivity_cost_dense_solve.json")
 
 
+def sensitivity_cost_matrix_ops():
+    return driver_table("sensitivity_cost", "sensitivity_cost_matrix_ops.json")
+
+
 def bdf_machinery():
     return driver_table("bdf_machinery", "bdf_machinery.json")
 
@@ -919,6 +923,7 @@ TABLES = {
     "sensitivity_cost_dense_lu": sensitivity_cost_dense_lu,
     "sensitivity_cost_dense_solve": sensitivity_cost_dense_solve,
     "bdf_machinery": bdf_machinery,
+    "sensitivity_cost_matrix_ops": sensitivity_cost_matrix_ops,
     "dense_lu_solve": dense_lu_solve,
     "sensitivity_cost_planar_recursion": sensitivity_cost_planar_recursion,
     "sensitivity_cost_arch": sensitivity_cost_arch,

@@ -2,6 +2,7 @@
 
 #include <cvodes/cvodes_ls.h>
 #include "sim/solve/dense_lu_solver.hpp"
+#include "sim/solve/dense_matrix_ops.hpp"
 #include "sim/solve/serial_vector_ops.hpp"
 #include <sunlinsol/sunlinsol_spgmr.h>
 #include <sunmatrix/sunmatrix_dense.h>
@@ -67,7 +68,9 @@ NVectorPtr make_serial_vector(int n, SUNContext ctx) {
 MatrixPtr make_dense_matrix(int n, SUNContext ctx) {
   SUNMatrix m = SUNDenseMatrix(n, n, ctx);
   check_ptr(m, "SUNDenseMatrix");
-  return MatrixPtr(m);
+  MatrixPtr owned(m);
+  use_compiled_dense_ops(m);
+  return owned;
 }
 
 LinearSolverPtr make_dense_solver(int n, SUNContext ctx) {
