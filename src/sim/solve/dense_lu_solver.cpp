@@ -40,10 +40,10 @@ int setup(SUNLinearSolver S, SUNMatrix A) {
   // PartialPivLU does not stop at a zero pivot; U's diagonal tells.
   const auto pivots = c.lu.matrixLU().diagonal();
   for (Eigen::Index k = 0; k < pivots.size(); ++k) {
+    if (!(pivots[k] != 0) || !std::isfinite(pivots[k])) return static_cast<int>(c.last_flag = SUNLS_LUFACT_FAIL);
     c.inverse_pivots[k] = 1.0 / pivots[k];
     // A pivot so small that its reciprocal overflows (subnormal) is singular in practice too.
-    if (!(pivots[k] != 0) || !std::isfinite(pivots[k]) || !std::isfinite(c.inverse_pivots[k]))
-      return static_cast<int>(c.last_flag = SUNLS_LUFACT_FAIL);
+    if (!std::isfinite(c.inverse_pivots[k])) return static_cast<int>(c.last_flag = SUNLS_LUFACT_FAIL);
   }
   const auto& rows = c.lu.permutationP().indices();  // (P b)[rows[i]] = b[i]
   for (Eigen::Index i = 0; i < c.n; ++i) c.source_rows[static_cast<std::size_t>(rows[i])] = static_cast<int>(i);
