@@ -23,15 +23,15 @@ steps and Ns the sensitivities:
 """
 from __future__ import annotations
 
+import argparse
 import os
 import re
-import statistics
 import subprocess
 import sys
 import tempfile
 
 from common import load_json, provenance, table_or_usage, write_json
-from sensitivity_cost import studies
+from sensitivity_cost import run, studies
 
 DEFAULT_SCENES = ["arm_3d", "chain8_spatial", "chain4_planar", "rolling_disc", "four_bar_multipliers"]
 INTEGRATOR_SYMBOLS = re.compile(r"sim::\(anonymous namespace\)::(op_\w+|linear_sum|scale|combination|"
@@ -59,23 +59,14 @@ def shares(exe, study, sens, extra, repeat):
     return integrator / total, total
 
 
-def solve(exe, study, sens, extra, repeat):
-    import json
-    p = subprocess.run([exe, "simulate", study, "--set", "solver.method=bdf", "--sens", sens, "--repeat", str(repeat)]
-                       + extra, capture_output=True, text=True, check=True)
-    d = json.loads(p.stdout)
-    if d["status"] != 1:
-        raise RuntimeError(f"{exe} {sens}: {d.get('message')}")
-    return statistics.median(d["stats"]["wall_seconds_repeats"][1:]), d["stats"]["steps"]
-
-
 def measure(out, exe, scenes, extra, repeat):
     result = {**provenance(), "repeat": repeat, "rows": []}
     with tempfile.TemporaryDirectory() as tmp:
         for name, study, sens, _ in studies(tmp, scenes):
             row = {"scene": name, "ns": len(sens.split(",")), "sensitivities": sens}
             for kind, s in (("plain", "none"), ("sens", sens)):
-                t, steps = solve(exe, study, s, extra, repeat)
+                t, stats = run(exe, study, "bdf", s, extra, repeat)
+                steps = stats["steps"]
                 # At least two seconds of solves in the profile: some ten thousand samples.
                 share, samples = shares(exe, study, s, extra, max(repeat, int(2.0 / t) + 1))
                 row[kind] = {"seconds": t, "steps": steps, "integrator_share": share, "samples": samples}
@@ -113,7 +104,6 @@ def table(path):
 
 if __name__ == "__main__":
     table_or_usage(sys.argv[1:], table, __doc__)
-    import argparse
     parser = argparse.ArgumentParser(usage=__doc__)
     parser.add_argument("out")
     parser.add_argument("exe")

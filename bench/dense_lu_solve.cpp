@@ -1,7 +1,8 @@
 // One solve with a factored n×n Newton matrix, as CVODES asks for it (SUNLinSolSolve: copy b to
 // x, solve in x): SUNDIALS's SUNLinSol_Dense (GETRS) and kanesens's dense LU solver
 // (sim/solve/dense_lu_solver.hpp: Eigen's PartialPivLU factors, substituted by hand, behind the
-// same interface), and for reference Eigen's PartialPivLU solve called directly on vector maps. Not part of the test gate. Build and run:
+// same interface), and for reference Eigen's PartialPivLU solve called directly on vector maps.
+// Not part of the test gate. Build and run:
 //   cmake --build build --target kanesens-dense-lu && build/bench/kanesens-dense-lu > OUT.json
 // Rounds alternate the three; the figure per size and solver is the median over rounds of the
 // mean time of a batch.
