@@ -4,8 +4,12 @@
 //             unconstrained 3-D chains: the articulated-body recursion instead of M)
 //   mf        evaluate_mass_matrix_and_forcing on double: M and f alone
 //   jacobian_dual  the exact Jacobian ∂ẏ/∂y column by column: nq + nu evaluate_rhs on Dual
-//   jacobian       the exact Jacobian as the solvers get it (KaneProblem::jacobian): columns in
-//                  blocks of up to 16, one multi-tangent pass per block
+//   jacobian       the exact Jacobian as the solvers get it (KaneProblem::jacobian): in closed
+//                  form where it applies, else columns in blocks of up to 16, one
+//                  multi-tangent pass per block
+//   jacobian_residual   where the default took the closed form (dynamics/residual_derivatives.hpp):
+//                  the same with KaneProblem::DerivativeMethod::residual (multi-tangent passes
+//                  of the residual)
 //   jacobian_whole_rhs  the same with KaneProblem::DerivativeMethod::whole_rhs (multi-tangent
 //                  passes of the whole right-hand side); `jacobian_method` says which the
 //                  default took
@@ -157,7 +161,16 @@ int run_bench_rhs(const BenchOptions& o) {
       problem.jacobian(0.0, y.data(), ydot.data(), jac.data());
       sink += jac.back();
     }));
-    jacobian_method = problem.last_jacobian_method() == KaneProblem::DerivativeMethod::residual ? "residual" : "whole_rhs";
+    using Method = KaneProblem::DerivativeMethod;
+    const Method took = problem.last_jacobian_method();
+    jacobian_method = took == Method::closed_form ? "closed_form" : took == Method::residual ? "residual" : "whole_rhs";
+    if (took == Method::closed_form) {
+      problem.set_jacobian_method(Method::residual);
+      timings.push_back(time_it("jacobian_residual", o, [&] {
+        problem.jacobian(0.0, y.data(), ydot.data(), jac.data());
+        sink += jac.back();
+      }));
+    }
     problem.set_jacobian_method(KaneProblem::DerivativeMethod::whole_rhs);
     timings.push_back(time_it("jacobian_whole_rhs", o, [&] {
       problem.jacobian(0.0, y.data(), ydot.data(), jac.data());

@@ -36,6 +36,14 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       s_full_(static_cast<std::size_t>(model.nstate())) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
   if (!model.evaluate_planar()) sensitivity_method_ = DerivativeMethod::residual;
+  if (dynamics::ResidualDerivatives::applies(model)) {
+    const std::size_t nu = static_cast<std::size_t>(model.nu);
+    closed_form_ = std::make_unique<dynamics::ResidualDerivatives>(model);
+    closed_r_.resize(nu);
+    closed_scale_.resize(nu);
+    closed_dq_.resize(nu * nu);
+    closed_du_.resize(nu * nu);
+  }
   // J v's dual pass takes the recursion for joints of one speed only (dynamics/workspace.hpp).
   jacobian_times_cheap_ = !dynamics::uses_articulated_body(model, workspaces_.values()) ||
                           dynamics::uses_articulated_body(model, workspaces_.jacobian());
@@ -224,8 +232,10 @@ bool KaneProblem::after_step(double t, double* y, double* const* s) {
 }
 
 void KaneProblem::jacobian(double t, const double* y, const double* ydot, double* J) {
+  last_jacobian_method_ = DerivativeMethod::closed_form;
+  if (jacobian_method_ == DerivativeMethod::closed_form && closed_form_ && closed_form_jacobian(t, y, ydot, J)) return;
   last_jacobian_method_ = DerivativeMethod::residual;
-  if (!embedded_ && jacobian_method_ == DerivativeMethod::residual && residual_jacobian(t, y, ydot, J)) return;
+  if (!embedded_ && jacobian_method_ != DerivativeMethod::whole_rhs && residual_jacobian(t, y, ydot, J)) return;
   last_jacobian_method_ = DerivativeMethod::whole_rhs;
   const int n = size();
   jacobian_blocks_.for_each([&](auto& b) {
@@ -239,6 +249,38 @@ void KaneProblem::jacobian(double t, const double* y, const double* ydot, double
       for (int r = 0; r < n; ++r) column[r] = b.ydot[r].d(i);
     }
   });
+}
+
+bool KaneProblem::closed_form_jacobian(double t, const double* y, const double* ydot, double* J) {
+  // q̇ = u here (ResidualDerivatives::applies): J = [0 1; M⁻¹ ∂r/∂q M⁻¹ ∂r/∂u].
+  Workspace<double>& wd = jacobian_values_;
+  const int nq = model_.nq, nu = model_.nu, n = size();
+  const double *q = y, *u = y + nq, *udot = ydot + nq;
+  dynamics::evaluate_state_expressions(model_, wd, t, q, u);
+  dynamics::compute_position(model_, wd, q);
+  dynamics::compute_velocity(model_, wd, u);
+  dynamics::compute_mass_matrix(model_, wd);
+  if (!dynamics::factor_mass_matrix(model_, wd)) return false;
+  closed_form_->evaluate(model_, wd, q, u, udot, closed_r_.data(), closed_scale_.data(), closed_dq_.data(),
+                         closed_du_.data());
+  // ydot must solve the equations at y (it is f(t, y) by the contract): r = f − M u̇ vanishes to
+  // round-off of its terms.
+  constexpr double tol = 1e-8;
+  for (int k = 0; k < nu; ++k) {
+    double scale = closed_scale_[static_cast<std::size_t>(k)];
+    for (int l = 0; l < nu; ++l) scale = std::max(scale, std::abs(wd.mass_matrix(k, l) * udot[l]));
+    if (!(std::abs(closed_r_[static_cast<std::size_t>(k)]) <= tol * scale + 1e-300)) return false;
+  }
+  for (int c = 0; c < n; ++c) {
+    double* column = J + static_cast<std::ptrdiff_t>(c) * n;
+    std::fill(column, column + nq, 0.0);
+    const double* dr = c < nq ? closed_dq_.data() + static_cast<std::ptrdiff_t>(c) * nu
+                              : closed_du_.data() + static_cast<std::ptrdiff_t>(c - nq) * nu;
+    if (c >= nq) column[c - nq] = 1.0;
+    std::copy(dr, dr + nu, column + nq);
+    dynamics::apply_mass_inverse(model_, wd, column + nq);
+  }
+  return true;
 }
 
 bool KaneProblem::residual_jacobian(double t, const double* y, const double* ydot, double* J) {

@@ -20,6 +20,7 @@
 
 #include "dynamics/embedding.hpp"
 #include "dynamics/inverse_dynamics.hpp"
+#include "dynamics/residual_derivatives.hpp"
 #include "dynamics/options.hpp"
 #include "math/dual.hpp"
 #include "sim/constraint_options.hpp"
@@ -72,9 +73,12 @@ class KaneProblem final : public OdeProblem {
   //              vanishes); otherwise whole_rhs.
   //   whole_rhs  multi-tangent passes of the whole right-hand side: the embedding formulation,
   //              redundant constraint rows, and tests comparing the two.
-  // Both are exact and agree to round-off. The sensitivity right-hand sides choose between the
-  // same two (set_sensitivity_method).
-  enum class DerivativeMethod { residual, whole_rhs };
+  //   closed_form (the default for the Jacobian) the residual's derivatives in closed form
+  //              (dynamics/residual_derivatives.hpp) where they apply: unconstrained 3-D trees of
+  //              one-axis joints without force elements; otherwise residual, as above.
+  // All are exact and agree to round-off. The sensitivity right-hand sides choose between
+  // residual and whole_rhs (set_sensitivity_method; closed_form is for the Jacobian only).
+  enum class DerivativeMethod { residual, whole_rhs, closed_form };
   void set_jacobian_method(DerivativeMethod method) { jacobian_method_ = method; }
   // The method the last jacobian() call took.
   DerivativeMethod last_jacobian_method() const { return last_jacobian_method_; }
@@ -210,13 +214,19 @@ class KaneProblem final : public OdeProblem {
   int jacobian_blocks_size_ = -1;
   // The residual Jacobian: M's and A M⁻¹ Aᵀ's factors on values at the state, the tangent
   // solve, scratch (r's value (nu), λ (m)).
-  DerivativeMethod jacobian_method_ = DerivativeMethod::residual, last_jacobian_method_ = DerivativeMethod::residual;
+  DerivativeMethod jacobian_method_ = DerivativeMethod::closed_form, last_jacobian_method_ = DerivativeMethod::residual;
   DerivativeMethod sensitivity_method_ = DerivativeMethod::whole_rhs, last_sensitivity_method_ = DerivativeMethod::whole_rhs;
   dynamics::Workspace<double> jacobian_values_;
   dynamics::AccelerationTangents acceleration_tangents_;
   std::vector<double> residual_value_, jacobian_multipliers_;
   // False when the residual form does not apply at this state (J then holds no result).
   bool residual_jacobian(double t, const double* y, const double* ydot, double* J);
+  // The closed form (when ResidualDerivatives::applies): scratch r, its scale, ∂r/∂q, ∂r/∂u.
+  std::unique_ptr<dynamics::ResidualDerivatives> closed_form_;
+  std::vector<double> closed_r_, closed_scale_, closed_dq_, closed_du_;
+  // False, as residual_jacobian, when ydot does not solve the equations at y or M is not
+  // positive definite there.
+  bool closed_form_jacobian(double t, const double* y, const double* ydot, double* J);
   // The sensitivity right-hand sides by residual passes; false (sdot then holds no result) as
   // residual_jacobian.
   bool residual_sensitivities(double t, const double* y, const double* ydot, const double* const* s,

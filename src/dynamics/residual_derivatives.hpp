@@ -1,0 +1,60 @@
+// The derivatives of Kane's residual r = f(q, u) − M(q) u̇ (u̇ held fixed) with respect to q and
+// u in closed form, for trees of one-axis joints: Carpentier & Mansard 2018, "Analytical
+// derivatives of rigid body dynamics algorithms", their recursive Newton–Euler derivatives in
+// world-aligned spatial vectors.
+//
+// Why by hand: the residual's Jacobian by dual numbers (dynamics/inverse_dynamics.hpp) carries
+// 2·nu tangents through every stage, O(nu²) work with the stages' whole constant; here the
+// position and velocity stages run once on doubles and the derivatives are a few spatial dot
+// products per pair of speeds (a speed and one of its ancestors), so on 3-D chains of 8 to 10
+// joints the Jacobian costs a fraction of the dual pass (docs/benchmarks.md, "The Jacobian").
+//
+// Each speed k is a rotation about, or a translation along, an axis S_k (a motion vector about
+// its tree's anchor, world components) carried by the speeds before it on the way to the root
+// (Model::speed_parent); moving speed j's coordinate moves everything after it: ∂S_k/∂q_j =
+// S_j × S_k. With v_k, a_k the velocity and acceleration after speed k (gravity as the base's
+// acceleration −g), Ψ̇_k = v_λ(k) × S_k, Ψ̈_k = a_λ(k) × S_k + v_λ(k) × Ψ̇_k, each body's
+// f = I a + v ×* I v and B = (v ×*) I − I (v ×) + (I v ×̄), and their sums I^C, B^C, f^C over
+// the bodies k moves, the inverse dynamics τ_k = S_k · f^C_k has, for j on k's way to the root
+// (j ⪯ k),
+//     ∂τ_k/∂u_j = 2 (I^C_k S_k)·Ψ̇_j + (B^Cᵀ_k S_k)·S_j,   ∂τ_k/∂q_j = (I^C_k S_k)·Ψ̈_j + (B^Cᵀ_k S_k)·Ψ̇_j,
+//     ∂τ_j/∂u_k = S_j · (2 I^C_k Ψ̇_k + B^C_k S_k),       ∂τ_j/∂q_k = S_j · (S_k ×* f^C_k + I^C_k Ψ̈_k + B^C_k Ψ̇_k)
+// (j ≠ k in the second line), and zero for speeds on different branches. r = Q − τ, Q the
+// joints' own spring-dampers.
+#pragma once
+#include <vector>
+
+#include "dynamics/workspace.hpp"
+
+namespace kanesens::dynamics {
+
+class ResidualDerivatives {
+ public:
+  // Whether the closed form covers the model: the 3-D path (not Model::evaluate_planar), every
+  // joint revolute, prismatic, universal or weld (q̇ = u, one axis per speed), no force elements,
+  // no constraints, no expression that reads t, q or u.
+  static bool applies(const Model& m);
+
+  explicit ResidualDerivatives(const Model& m);  // scratch for m (no allocation afterwards)
+
+  // At the state (q, u) whose position and velocity stages ws holds (double; compute_position and
+  // compute_velocity), with accelerations udot: r (nu) and its derivatives, column-major
+  // nu×nu: dr_dq[j·nu + k] = ∂r_k/∂q_j, dr_du[j·nu + k] = ∂r_k/∂u_j. r_scale (nu): the largest
+  // magnitude among the terms of each r_k, to judge whether r vanishes to round-off.
+  void evaluate(const Model& m, const Workspace<double>& ws, const double* q, const double* u, const double* udot,
+                double* r, double* r_scale, double* dr_dq, double* dr_du);
+
+ private:
+  struct Speed {
+    Vec6<double> S, dS, ddS;  // axis, Ψ̇, Ψ̈
+    Vec6<double> v, a;        // velocity and acceleration after the speed
+    Vec6<double> IS, BS;      // I^C S, B^Cᵀ S
+  };
+  std::vector<Speed> speeds_;
+  std::vector<SpatialInertia<double>> inertia_;  // nb: about the tree's anchor, then summed over subtrees
+  std::vector<Mat6<double>> b_;                  // nb: B, then summed
+  std::vector<Vec6<double>> f_;                  // nb: f, then summed
+  std::vector<Vec6<double>> f_abs_;              // nb: the magnitudes of f's terms, then summed
+};
+
+}  // namespace kanesens::dynamics
