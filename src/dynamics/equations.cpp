@@ -242,6 +242,18 @@ void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x, const int* suppo
   }
 }
 
+void apply_mass_inverse_rows(const Model& m, Workspace<double>& ws, double* X, std::ptrdiff_t ldx, int ncols) {
+  const int n = m.nu;
+  if (!ws.tree_factor)
+    return math::cholesky_solve_rows(ws.cholesky.data(), n, n, ws.inverse_pivots.data(), X, ldx, ncols);
+  double* x = ws.value_solution.data();  // (scratch on double)
+  for (int c = 0; c < ncols; ++c) {
+    for (int i = 0; i < n; ++i) x[i] = X[i * ldx + c];
+    apply_mass_inverse(m, ws, x);
+    for (int i = 0; i < n; ++i) X[i * ldx + c] = x[i];
+  }
+}
+
 template <class S>
 void evaluate_mass_matrix_and_forcing(const Model& m, Workspace<S>& ws, const S& t, const S* q, const S* u) {
   evaluate_state_expressions(m, ws, t, q, u);

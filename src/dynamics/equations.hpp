@@ -57,6 +57,9 @@ void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x);
 // nor written.
 template <class S>
 void apply_mass_inverse(const Model& m, Workspace<S>& ws, S* x, const int* support, int ns);
+// X ← M⁻¹ X for the nu×ncols row-major X (leading dimension ldx), every column at once, with the
+// factor of the last solve_accelerations or factor_mass_matrix on double.
+void apply_mass_inverse_rows(const Model& m, Workspace<double>& ws, double* X, std::ptrdiff_t ldx, int ncols);
 template <class S>
 void compute_kinematic_derivatives(const Model& m, Workspace<S>& ws, const S* q, const S* u);
 // u̇ of an unconstrained tree by the articulated-body algorithm (Featherstone 2008 §7.3), in

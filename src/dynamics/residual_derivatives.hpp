@@ -14,7 +14,7 @@
 // (Model::speed_parent); moving speed j's coordinate moves everything after it: ∂S_k/∂q_j =
 // S_j × S_k. With v_k, a_k the velocity and acceleration after speed k (gravity as the base's
 // acceleration −g), Ψ̇_k = v_λ(k) × S_k, Ψ̈_k = a_λ(k) × S_k + v_λ(k) × Ψ̇_k, each body's
-// f = I a + v ×* I v and B = (v ×*) I − I (v ×) + (I v ×̄), and their sums I^C, B^C, f^C over
+// f = I a + v ×* I v and B = (v ×*) I − I (v ×) + X(I v) (X(h) x = x ×* h), and their sums I^C, B^C, f^C over
 // the bodies k moves, the inverse dynamics τ_k = S_k · f^C_k has, for j on k's way to the root
 // (j ⪯ k),
 //     ∂τ_k/∂u_j = 2 (I^C_k S_k)·Ψ̇_j + (B^Cᵀ_k S_k)·S_j,   ∂τ_k/∂q_j = (I^C_k S_k)·Ψ̈_j + (B^Cᵀ_k S_k)·Ψ̇_j,
@@ -38,21 +38,24 @@ class ResidualDerivatives {
   explicit ResidualDerivatives(const Model& m);  // scratch for m (no allocation afterwards)
 
   // At the state (q, u) whose position and velocity stages ws holds (double; compute_position and
-  // compute_velocity), with accelerations udot: r (nu) and its derivatives, column-major
-  // nu×nu: dr_dq[j·nu + k] = ∂r_k/∂q_j, dr_du[j·nu + k] = ∂r_k/∂u_j. r_scale (nu): the largest
+  // compute_velocity), with accelerations udot: r (nu) and its derivatives, row-major nu×2nu:
+  // dr[k·2nu + j] = ∂r_k/∂q_j, dr[k·2nu + nu + j] = ∂r_k/∂u_j. r_scale (nu): the largest
   // magnitude among the terms of each r_k, to judge whether r vanishes to round-off.
   void evaluate(const Model& m, const Workspace<double>& ws, const double* q, const double* u, const double* udot,
-                double* r, double* r_scale, double* dr_dq, double* dr_du);
+                double* r, double* r_scale, double* dr);
 
  private:
   struct Speed {
     Vec6<double> S, dS, ddS;  // axis, Ψ̇, Ψ̈
     Vec6<double> v, a;        // velocity and acceleration after the speed
-    Vec6<double> IS, BS;      // I^C S, B^Cᵀ S
+    Vec6<double> IS;          // I^C S
+    Vec3<double> BS;          // B^Cᵀ S (its force half is zero)
   };
   std::vector<Speed> speeds_;
   std::vector<SpatialInertia<double>> inertia_;  // nb: about the tree's anchor, then summed over subtrees
-  std::vector<Mat6<double>> b_;                  // nb: B, then summed
+  // B = [B11 0; −2 p× 0] (residual_derivatives.cpp), p the linear momentum: B11 and p, summed.
+  std::vector<Mat3<double>> b11_;                // nb
+  std::vector<Vec3<double>> momentum_;           // nb
   std::vector<Vec6<double>> f_;                  // nb: f, then summed
   std::vector<Vec6<double>> f_abs_;              // nb: the magnitudes of f's terms, then summed
 };

@@ -223,6 +223,26 @@ inline void cholesky_solve(const double* U, std::ptrdiff_t ldu, int n, const dou
   }
 }
 
+// X ← (Uᵀ U)⁻¹ X for an n×ncols row-major X (leading dimension ldx), with the reciprocal pivots
+// of cholesky_factor: cholesky_solve's substitutions applied to whole rows, so that the work on
+// the columns is vector operations along each row.
+inline void cholesky_solve_rows(const double* U, std::ptrdiff_t ldu, int n, const double* inverse_pivots, double* X,
+                                std::ptrdiff_t ldx, int ncols) {
+  using Row = Eigen::Map<Eigen::RowVectorXd>;
+  for (int i = 0; i < n; ++i) {
+    Row xi(X + i * ldx, ncols);
+    const double* Ui = U + i * ldu;
+    for (int k = 0; k < i; ++k) xi -= Ui[k] * Row(X + k * ldx, ncols);
+    xi *= inverse_pivots[i];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    Row xi(X + i * ldx, ncols);
+    xi *= inverse_pivots[i];
+    const double* Ui = U + i * ldu;
+    for (int k = 0; k < i; ++k) Row(X + k * ldx, ncols) -= Ui[k] * xi;
+  }
+}
+
 // x ← (Uᵀ U)⁻¹ x with a factor U on doubles and x on any scalar S: the tangents of x are solved
 // with the value factor (each operation scales S by a double, half the cost of S × S).
 template <class S>

@@ -41,8 +41,7 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
     closed_form_ = std::make_unique<dynamics::ResidualDerivatives>(model);
     closed_r_.resize(nu);
     closed_scale_.resize(nu);
-    closed_dq_.resize(nu * nu);
-    closed_du_.resize(nu * nu);
+    closed_dr_.resize(2 * nu * nu);
   }
   // J v's dual pass takes the recursion for joints of one speed only (dynamics/workspace.hpp).
   jacobian_times_cheap_ = !dynamics::uses_articulated_body(model, workspaces_.values()) ||
@@ -261,8 +260,8 @@ bool KaneProblem::closed_form_jacobian(double t, const double* y, const double* 
   dynamics::compute_velocity(model_, wd, u);
   dynamics::compute_mass_matrix(model_, wd);
   if (!dynamics::factor_mass_matrix(model_, wd)) return false;
-  closed_form_->evaluate(model_, wd, q, u, udot, closed_r_.data(), closed_scale_.data(), closed_dq_.data(),
-                         closed_du_.data());
+  double* dr = closed_dr_.data();
+  closed_form_->evaluate(model_, wd, q, u, udot, closed_r_.data(), closed_scale_.data(), dr);
   // ydot must solve the equations at y (it is f(t, y) by the contract): r = f − M u̇ vanishes to
   // round-off of its terms.
   constexpr double tol = 1e-8;
@@ -271,14 +270,12 @@ bool KaneProblem::closed_form_jacobian(double t, const double* y, const double* 
     for (int l = 0; l < nu; ++l) scale = std::max(scale, std::abs(wd.mass_matrix(k, l) * udot[l]));
     if (!(std::abs(closed_r_[static_cast<std::size_t>(k)]) <= tol * scale + 1e-300)) return false;
   }
+  dynamics::apply_mass_inverse_rows(model_, wd, dr, n, n);  // nq = nu: dr is nu×n
   for (int c = 0; c < n; ++c) {
     double* column = J + static_cast<std::ptrdiff_t>(c) * n;
     std::fill(column, column + nq, 0.0);
-    const double* dr = c < nq ? closed_dq_.data() + static_cast<std::ptrdiff_t>(c) * nu
-                              : closed_du_.data() + static_cast<std::ptrdiff_t>(c - nq) * nu;
     if (c >= nq) column[c - nq] = 1.0;
-    std::copy(dr, dr + nu, column + nq);
-    dynamics::apply_mass_inverse(model_, wd, column + nq);
+    for (int k = 0; k < nu; ++k) column[nq + k] = dr[static_cast<std::ptrdiff_t>(k) * n + c];
   }
   return true;
 }

@@ -221,9 +221,9 @@ class KaneProblem final : public OdeProblem {
   std::vector<double> residual_value_, jacobian_multipliers_;
   // False when the residual form does not apply at this state (J then holds no result).
   bool residual_jacobian(double t, const double* y, const double* ydot, double* J);
-  // The closed form (when ResidualDerivatives::applies): scratch r, its scale, ∂r/∂q, ∂r/∂u.
+  // The closed form (when ResidualDerivatives::applies): scratch r, its scale, [∂r/∂q ∂r/∂u].
   std::unique_ptr<dynamics::ResidualDerivatives> closed_form_;
-  std::vector<double> closed_r_, closed_scale_, closed_dq_, closed_du_;
+  std::vector<double> closed_r_, closed_scale_, closed_dr_;
   // False, as residual_jacobian, when ydot does not solve the equations at y or M is not
   // positive definite there.
   bool closed_form_jacobian(double t, const double* y, const double* ydot, double* J);

@@ -5,7 +5,9 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <cmath>
 #include <random>
+#include <vector>
 
 #include "math/cholesky.hpp"
 #include "math/dual.hpp"
@@ -57,6 +59,32 @@ TEST(Cholesky, FactorAndBothSolvesMatchEigen) {
     ASSERT_TRUE(kanesens::math::cholesky_factor(W.data(), n, W.data(), n, n));
     for (int j = 0; j < n; ++j)
       for (int i = 0; i <= j; ++i) EXPECT_EQ(W(i, j), U(i, j)) << n << " " << i << " " << j;
+  }
+}
+
+// The solve of many right-hand sides at once (rows of a row-major block, with a leading
+// dimension wider than the block) gives each column's solve to round-off (its sums are paired
+// differently), and leaves the columns beyond the block alone.
+TEST(Cholesky, RowSolveEqualsTheSolveOfEachColumn) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  for (int n : {1, 2, 3, 8, 10, 17}) {
+    const MatrixXd A = random_spd(n, rng);
+    MatrixXd U(n, n);
+    VectorXd inverse_pivots(n);
+    ASSERT_TRUE(kanesens::math::cholesky_factor(A.data(), n, U.data(), n, n, inverse_pivots.data()));
+    const int ncols = 2 * n + 1, ldx = ncols + 3;
+    std::vector<double> X(static_cast<std::size_t>(n * ldx));
+    for (double& x : X) x = uni(rng);
+    const std::vector<double> B = X;
+    kanesens::math::cholesky_solve_rows(U.data(), n, n, inverse_pivots.data(), X.data(), ldx, ncols);
+    for (int c = 0; c < ldx; ++c) {
+      VectorXd x(n);
+      for (int i = 0; i < n; ++i) x[i] = B[static_cast<std::size_t>(i * ldx + c)];
+      if (c < ncols) kanesens::math::cholesky_solve(U.data(), n, n, inverse_pivots.data(), x.data());
+      const double tol = c < ncols ? 1e-12 * std::max(1.0, x.cwiseAbs().maxCoeff()) : 0.0;
+      for (int i = 0; i < n; ++i) EXPECT_LE(std::abs(X[static_cast<std::size_t>(i * ldx + c)] - x[i]), tol) << n << " " << c;
+    }
   }
 }
 

@@ -88,6 +88,9 @@ TEST(ClosedFormJacobian, MatchesTheDualPassesAndDifferences) {
       {"chain10_spatial", load("bench/configs/chain10_spatial.yaml")},
       {"zoo", model_from_text(kZoo)},
   };
+  // The chains' M is dense; the branched tree's is factored along the tree: both solves are used.
+  EXPECT_FALSE(kanesens::dynamics::Workspace<double>(scenes[0].second).tree_factor);
+  EXPECT_TRUE(kanesens::dynamics::Workspace<double>(scenes[2].second).tree_factor);
   std::mt19937 rng(29);
   for (const auto& [name, m] : scenes) {
     SCOPED_TRACE(name);
