@@ -8,7 +8,8 @@ For every scene and executable, K rounds (interleaved across executables) of `be
 round reports the median of its batches, and the figure is the median over rounds of
 jacobian / rhs measured in the same round (`jacobian_dual`: one Dual pass per column, as before
 multi-tangent passes; `jacobian`: what the solvers get, if the executable has it, by the method
-it reports as `jacobian_method` (`whole_rhs` when it does not say); `jacobian_whole_rhs`:
+it reports as `jacobian_method` (`whole_rhs` when it does not say); `jacobian_residual`: the
+multi-tangent residual pass, where the executable took the closed form; `jacobian_whole_rhs`:
 multi-tangent passes of the whole right-hand side, if the executable has both methods).
 Scenes are looked up in configs/, then bench/configs/.
 """
@@ -47,7 +48,7 @@ def measure(out, exes, rounds, command, scenes=SCENES):
             row = {"scene": scene, "exe": label, "nstate": d[0]["nq"] + d[0]["nu"], "path": d[0]["path"],
                    "jacobian_method": d[0].get("jacobian_method", "whole_rhs"),
                    "rhs_ns": [r["rhs"]["median_ns"] for r in d]}
-            for k in ("jacobian_dual", "jacobian", "jacobian_whole_rhs", "jacobian_times"):
+            for k in ("jacobian_dual", "jacobian", "jacobian_residual", "jacobian_whole_rhs", "jacobian_times"):
                 if k in d[0]:
                     row[k + "_ns"] = [r[k]["median_ns"] for r in d]
                     row[k + "_over_rhs"] = statistics.median(r[k]["median_ns"] / r["rhs"]["median_ns"] for r in d)
@@ -60,8 +61,11 @@ def measure(out, exes, rounds, command, scenes=SCENES):
 def table(path):
     r = load_json(path)
     print(f"Median over {r['rounds']} interleaved rounds of (Jacobian time / RHS time), each from `kanesens bench rhs`.\n")
-    print("| scene | states | path | build | RHS (ns) | Jacobian, one Dual pass per column | Jacobian, multi-tangent passes of the whole RHS | Jacobian as the solvers get it | method |")
-    print("|---|---:|---|---|---:|---:|---:|---:|---|")
+    residual_column = any("jacobian_residual_over_rhs" in row for row in r["rows"])
+    print("| scene | states | path | build | RHS (ns) | Jacobian, one Dual pass per column | Jacobian, multi-tangent passes of the whole RHS |"
+          + (" Jacobian, multi-tangent residual pass |" if residual_column else "")
+          + " Jacobian as the solvers get it | method |")
+    print("|---|---:|---|---|---:|---:|---:|" + ("---:|" if residual_column else "") + "---:|---|")
 
     def ratio(row, k):
         return f"{row[k + '_over_rhs']:.1f}x" if k + "_over_rhs" in row else "—"
@@ -70,8 +74,12 @@ def table(path):
         method = row.get("jacobian_method", "whole_rhs")
         whole = ratio(row, "jacobian_whole_rhs") if "jacobian_whole_rhs_over_rhs" in row else (
             ratio(row, "jacobian") if method == "whole_rhs" else "—")
+        residual = ""
+        if residual_column:
+            residual = " " + (ratio(row, "jacobian_residual") if "jacobian_residual_over_rhs" in row else (
+                ratio(row, "jacobian") if method == "residual" else "—")) + " |"
         print(f"| {row['scene']} | {row['nstate']} | {row['path']} | {row['exe']} | {statistics.median(row['rhs_ns']):.0f} | "
-              f"{ratio(row, 'jacobian_dual')} | {whole} | {ratio(row, 'jacobian')} | {method} |")
+              f"{ratio(row, 'jacobian_dual')} | {whole} |{residual} {ratio(row, 'jacobian')} | {method} |")
 
 
 if __name__ == "__main__":
