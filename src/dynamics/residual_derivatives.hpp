@@ -20,7 +20,8 @@
 //     ∂τ_k/∂u_j = 2 (I^C_k S_k)·Ψ̇_j + (B^Cᵀ_k S_k)·S_j,   ∂τ_k/∂q_j = (I^C_k S_k)·Ψ̈_j + (B^Cᵀ_k S_k)·Ψ̇_j,
 //     ∂τ_j/∂u_k = S_j · (2 I^C_k Ψ̇_k + B^C_k S_k),       ∂τ_j/∂q_k = S_j · (S_k ×* f^C_k + I^C_k Ψ̈_k + B^C_k Ψ̇_k)
 // (j ≠ k in the second line), and zero for speeds on different branches. r = Q − τ, Q the
-// joints' own spring-dampers.
+// joints' own spring-dampers here; force elements' derivatives come from a dual-number pass of
+// them alone (evaluate_applied_forces).
 #pragma once
 #include <vector>
 
@@ -31,9 +32,14 @@ namespace kanesens::dynamics {
 class ResidualDerivatives {
  public:
   // Whether the closed form covers the model: the 3-D path (not Model::evaluate_planar), every
-  // joint revolute, prismatic, universal or weld (q̇ = u, one axis per speed), no force elements,
-  // no constraints, no expression that reads t, q or u.
+  // joint revolute, prismatic, cylindrical, universal, planar or weld (q̇ = u, one axis per
+  // speed), no constraints.
   static bool applies(const Model& m);
+  // Whether the applied forces need a pass of their own (evaluate_applied_forces on dual
+  // numbers): the model has force elements or expressions of t, q or u (which only force
+  // elements and joint spring-dampers may read). Otherwise evaluate() includes the joints'
+  // spring-dampers.
+  static bool needs_applied_pass(const Model& m) { return !m.forces.empty() || !m.state_slots.empty(); }
 
   explicit ResidualDerivatives(const Model& m);  // scratch for m (no allocation afterwards)
 
@@ -41,8 +47,22 @@ class ResidualDerivatives {
   // compute_velocity), with accelerations udot: r (nu) and its derivatives, row-major nu×2nu:
   // dr[k·2nu + j] = ∂r_k/∂q_j, dr[k·2nu + nu + j] = ∂r_k/∂u_j. r_scale (nu): the largest
   // magnitude among the terms of each r_k, to judge whether r vanishes to round-off.
+  // joint_forces: include the joints' own spring-dampers (else r is gravity and inertia only).
   void evaluate(const Model& m, const Workspace<double>& ws, const double* q, const double* u, const double* udot,
-                double* r, double* r_scale, double* dr);
+                bool joint_forces, double* r, double* r_scale, double* dr);
+
+  // After evaluate(…, joint_forces = false) at the same state (wd its workspace): the generalized
+  // forces of the force elements and of the joints' spring-dampers, Q_k = S_k · Σ W over the
+  // bodies k moves, and their derivatives along the directions [first, first + count) of y,
+  // whose seeded state y (value and unit tangents) is on a multi-tangent scalar S. The kinematics
+  // the force elements read (rotations, points, velocities) get their tangents in closed form
+  // from the speeds' axes (∂X/∂q_j: the motion S_j of everything j moves; ∂v/∂q_j = S_j × v +
+  // Ψ̇_j; ∂v/∂u_j = S_j), not from a pass of the position and velocity stages; the force elements
+  // and expressions then run on S, and ∂Q_k/∂q_j gains (S_j × S_k)·Σ W for j before k. Q's
+  // values are added to r and r_scale by the block with first == 0; the tangents to dr.
+  template <class S>
+  void add_applied_forces(const Model& m, const Workspace<double>& wd, Workspace<S>& ws, double t, const S* y,
+                          int first, int count, double* r, double* r_scale, double* dr);
 
  private:
   struct Speed {
@@ -58,6 +78,17 @@ class ResidualDerivatives {
   std::vector<Vec3<double>> momentum_;           // nb
   std::vector<Vec6<double>> f_;                  // nb: f, then summed
   std::vector<Vec6<double>> f_abs_;              // nb: the magnitudes of f's terms, then summed
+  // add_applied_forces: the bodies force elements act on; for one of them, the tangents of its
+  // rotation, reference point (from a fixed point, and its tree's anchor) and velocity along
+  // each speed's coordinate; per speed, the force elements' wrench (value) over the bodies it moves.
+  struct KinematicTangents {
+    Mat3<double> dR;
+    Vec3<double> dQ, dAnchor;
+    Vec6<double> dVq;
+  };
+  std::vector<int> loaded_;
+  std::vector<KinematicTangents> kinematic_tangents_;  // nu
+  std::vector<Vec6<double>> applied_wrench_;           // nu
 };
 
 }  // namespace kanesens::dynamics

@@ -261,7 +261,21 @@ bool KaneProblem::closed_form_jacobian(double t, const double* y, const double* 
   dynamics::compute_mass_matrix(model_, wd);
   if (!dynamics::factor_mass_matrix(model_, wd)) return false;
   double* dr = closed_dr_.data();
-  closed_form_->evaluate(model_, wd, q, u, udot, closed_r_.data(), closed_scale_.data(), dr);
+  double* r = closed_r_.data();
+  double* r_scale = closed_scale_.data();
+  const bool applied = dynamics::ResidualDerivatives::needs_applied_pass(model_);
+  closed_form_->evaluate(model_, wd, q, u, udot, !applied, r, r_scale, dr);
+  if (applied) {
+    // The force elements and the joints' spring-dampers, per block of up to 16 directions: their
+    // values complete r, their tangents ∂r.
+    jacobian_blocks_.for_each([&](auto& b) {
+      for (int row = 0; row < n; ++row) {
+        b.y[static_cast<std::size_t>(row)].v = y[row];
+        b.y[static_cast<std::size_t>(row)].set_tangents([&](int i) { return b.first + i == row ? 1.0 : 0.0; }, b.count);
+      }
+      closed_form_->add_applied_forces(model_, wd, b.ws, t, b.y.data(), b.first, b.count, r, r_scale, dr);
+    });
+  }
   // ydot must solve the equations at y (it is f(t, y) by the contract): r = f − M u̇ vanishes to
   // round-off of its terms.
   constexpr double tol = 1e-8;
