@@ -7,21 +7,23 @@
 // 2·nu tangents through every stage, O(nu²) work with the stages' whole constant; here the
 // position and velocity stages run once on doubles and the derivatives are a few spatial dot
 // products per pair of speeds (a speed and one of its ancestors), so on 3-D chains of 8 to 10
-// joints the Jacobian costs a fraction of the dual pass (docs/benchmarks.md, "The Jacobian").
+// joints the Jacobian costs a fraction of the dual pass (docs/benchmarks.md, "What a sensitivity
+// and the exact Jacobian cost").
 //
 // Each speed k is a rotation about, or a translation along, an axis S_k (a motion vector about
 // its tree's anchor, world components) carried by the speeds before it on the way to the root
 // (Model::speed_parent); moving speed j's coordinate moves everything after it: ∂S_k/∂q_j =
 // S_j × S_k. With v_k, a_k the velocity and acceleration after speed k (gravity as the base's
 // acceleration −g), Ψ̇_k = v_λ(k) × S_k, Ψ̈_k = a_λ(k) × S_k + v_λ(k) × Ψ̇_k, each body's
-// f = I a + v ×* I v and B = (v ×*) I − I (v ×) + X(I v) (X(h) x = x ×* h), and their sums I^C, B^C, f^C over
-// the bodies k moves, the inverse dynamics τ_k = S_k · f^C_k has, for j on k's way to the root
+// f = I a + v ×* I v and B = (v ×*) I − I (v ×) + X(I v) (X(h) x = x ×* h), and their sums
+// I^C, B^C, f^C over the bodies k moves, the inverse dynamics τ_k = S_k · f^C_k has, for j on k's
+// way to the root
 // (j ⪯ k),
 //     ∂τ_k/∂u_j = 2 (I^C_k S_k)·Ψ̇_j + (B^Cᵀ_k S_k)·S_j,   ∂τ_k/∂q_j = (I^C_k S_k)·Ψ̈_j + (B^Cᵀ_k S_k)·Ψ̇_j,
 //     ∂τ_j/∂u_k = S_j · (2 I^C_k Ψ̇_k + B^C_k S_k),       ∂τ_j/∂q_k = S_j · (S_k ×* f^C_k + I^C_k Ψ̈_k + B^C_k Ψ̇_k)
 // (j ≠ k in the second line), and zero for speeds on different branches. r = Q − τ, Q the
-// joints' own spring-dampers here; force elements' derivatives come from a dual-number pass of
-// them alone (evaluate_applied_forces).
+// generalized applied forces other than gravity: the joints' spring-dampers in closed form, or,
+// with force elements, Q on dual numbers (add_applied_forces).
 #pragma once
 #include <vector>
 
@@ -35,10 +37,9 @@ class ResidualDerivatives {
   // joint revolute, prismatic, cylindrical, universal, planar or weld (q̇ = u, one axis per
   // speed), no constraints.
   static bool applies(const Model& m);
-  // Whether the applied forces need a pass of their own (evaluate_applied_forces on dual
-  // numbers): the model has force elements or expressions of t, q or u (which only force
-  // elements and joint spring-dampers may read). Otherwise evaluate() includes the joints'
-  // spring-dampers.
+  // Whether the applied forces need add_applied_forces (on dual numbers): the model has force
+  // elements or expressions of t, q or u (which only force elements and joint spring-dampers
+  // may read). Otherwise evaluate() includes the joints' spring-dampers.
   static bool needs_applied_pass(const Model& m) { return !m.forces.empty() || !m.state_slots.empty(); }
 
   explicit ResidualDerivatives(const Model& m);  // scratch for m (no allocation afterwards)

@@ -75,7 +75,8 @@ class KaneProblem final : public OdeProblem {
   //              redundant constraint rows, and tests comparing the two.
   //   closed_form (the default for the Jacobian) the residual's derivatives in closed form
   //              (dynamics/residual_derivatives.hpp) where they apply: unconstrained 3-D trees of
-  //              one-axis joints without force elements; otherwise residual, as above.
+  //              one-axis joints (force elements on dual numbers, on the bodies they load);
+  //              otherwise residual, as above.
   // All are exact and agree to round-off. The sensitivity right-hand sides choose between
   // residual and whole_rhs (set_sensitivity_method; closed_form is for the Jacobian only).
   enum class DerivativeMethod { residual, whole_rhs, closed_form };

@@ -151,6 +151,7 @@ TEST(ResidualJacobian, FallsBackWhereItDoesNotApply) {
       const Model m = load(scene);
       KaneProblem p(m, {});
       p.set_sample(SampleInputs(m));
+      p.set_jacobian_method(Method::residual);  // (the closed form's fallback: test_closed_form_jacobian)
       const std::vector<double> y = test_state(p, rng, 0.05);
       std::vector<double> ydot(y.size());
       p.rhs(0.1, y.data(), ydot.data());
