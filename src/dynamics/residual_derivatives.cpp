@@ -90,7 +90,8 @@ ResidualDerivatives::ResidualDerivatives(const Model& m)
 }
 
 void ResidualDerivatives::evaluate(const Model& m, const Workspace<double>& ws, const double* q, const double* u,
-                                   const double* udot, bool joint_forces, double* r, double* r_scale, double* dr) {
+                                   const double* udot, bool joint_forces, double* r, double* r_scale, double* dr,
+                                   double* mass_matrix) {
   const int nu = m.nu;
   const std::ptrdiff_t ld = 2 * static_cast<std::ptrdiff_t>(nu);
   const int* parent = m.speed_parent.data();
@@ -150,6 +151,7 @@ void ResidualDerivatives::evaluate(const Model& m, const Workspace<double>& ws, 
     r_scale[k] = s.S.cwiseAbs().dot(f_abs_[body]);
   }
   std::fill(dr, dr + ld * nu, 0.0);
+  std::fill(mass_matrix, mass_matrix + static_cast<std::ptrdiff_t>(nu) * nu, 0.0);
   for (int k = 0; k < nu; ++k) {
     const Speed& sk = speeds_[static_cast<std::size_t>(k)];
     const std::size_t body = static_cast<std::size_t>(m.speed_body[static_cast<std::size_t>(k)]);
@@ -167,6 +169,9 @@ void ResidualDerivatives::evaluate(const Model& m, const Workspace<double>& ws, 
     double* row_k = dr + k * ld;
     for (int j = k; j >= 0; j = parent[j]) {
       const Speed& sj = speeds_[static_cast<std::size_t>(j)];
+      // M_kj = S_j · I^C_k S_k (the composite inertia of what both move).
+      mass_matrix[static_cast<std::ptrdiff_t>(j) * nu + k] = mass_matrix[static_cast<std::ptrdiff_t>(k) * nu + j] =
+          sk.IS.dot(sj.S);
       // τ_k with respect to speed j at or before k.
       row_k[nu + j] -= 2 * sk.IS.dot(sj.dS) + sk.BS.dot(sj.S.head<3>());
       row_k[j] -= sk.IS.dot(sj.ddS) + sk.BS.dot(sj.dS.head<3>());

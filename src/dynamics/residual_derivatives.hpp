@@ -49,8 +49,10 @@ class ResidualDerivatives {
   // dr[k·2nu + j] = ∂r_k/∂q_j, dr[k·2nu + nu + j] = ∂r_k/∂u_j. r_scale (nu): the largest
   // magnitude among the terms of each r_k, to judge whether r vanishes to round-off.
   // joint_forces: include the joints' own spring-dampers (else r is gravity and inertia only).
+  // mass_matrix (nu×nu, column-major): M, M_kj = S_j · I^C_k S_k for j ⪯ k, 0 elsewhere (the
+  // composite-rigid-body sums, formed from the same composite inertias).
   void evaluate(const Model& m, const Workspace<double>& ws, const double* q, const double* u, const double* udot,
-                bool joint_forces, double* r, double* r_scale, double* dr);
+                bool joint_forces, double* r, double* r_scale, double* dr, double* mass_matrix);
 
   // After evaluate(…, joint_forces = false) at the same state (wd its workspace): the generalized
   // forces of the force elements and of the joints' spring-dampers, Q_k = S_k · Σ W over the

@@ -258,13 +258,12 @@ bool KaneProblem::closed_form_jacobian(double t, const double* y, const double* 
   dynamics::evaluate_state_expressions(model_, wd, t, q, u);
   dynamics::compute_position(model_, wd, q);
   dynamics::compute_velocity(model_, wd, u);
-  dynamics::compute_mass_matrix(model_, wd);
-  if (!dynamics::factor_mass_matrix(model_, wd)) return false;
   double* dr = closed_dr_.data();
   double* r = closed_r_.data();
   double* r_scale = closed_scale_.data();
   const bool applied = dynamics::ResidualDerivatives::needs_applied_pass(model_);
-  closed_form_->evaluate(model_, wd, q, u, udot, !applied, r, r_scale, dr);
+  closed_form_->evaluate(model_, wd, q, u, udot, !applied, r, r_scale, dr, wd.mass_matrix.data());
+  if (!dynamics::factor_mass_matrix(model_, wd)) return false;
   if (applied) {
     // The force elements and the joints' spring-dampers, per block of up to 16 directions: their
     // values complete r, their tangents ∂r.
