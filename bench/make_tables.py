@@ -165,6 +165,10 @@ def sensitivity_cost_matrix_ops():
     return driver_table("sensitivity_cost", "sensitivity_cost_matrix_ops.json")
 
 
+def sensitivity_cost_closed_form():
+    return driver_table("sensitivity_cost", "sensitivity_cost_closed_form.json")
+
+
 def bdf_machinery():
     return driver_table("bdf_machinery", "bdf_machinery.json")
 
@@ -924,6 +928,7 @@ TABLES = {
     "sensitivity_cost_dense_solve": sensitivity_cost_dense_solve,
     "bdf_machinery": bdf_machinery,
     "sensitivity_cost_matrix_ops": sensitivity_cost_matrix_ops,
+    "sensitivity_cost_closed_form": sensitivity_cost_closed_form,
     "dense_lu_solve": dense_lu_solve,
     "sensitivity_cost_planar_recursion": sensitivity_cost_planar_recursion,
     "sensitivity_cost_arch": sensitivity_cost_arch,
