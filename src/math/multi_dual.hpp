@@ -68,6 +68,17 @@ struct MultiDual {
 
   MultiDual() = default;
   KANESENS_MD_INLINE constexpr MultiDual(double value) : t{}, v(value) {}  // NOLINT: implicit from constants is intended
+  // Copies member by member, pack by pack: as an aggregate the compiler copies arrays of these
+  // (Eigen's vectors of them) in a few wide moves, whose loads then span several narrower stores
+  // just made and stall (no store-to-load forwarding).
+  KANESENS_MD_INLINE MultiDual(const MultiDual& o) : v(o.v) {
+    for (int k = 0; k < packs; ++k) t[k] = o.t[k];
+  }
+  KANESENS_MD_INLINE MultiDual& operator=(const MultiDual& o) {
+    for (int k = 0; k < packs; ++k) t[k] = o.t[k];
+    v = o.v;
+    return *this;
+  }
 
   KANESENS_MD_INLINE double d(int i) const { return t[i / lanes][i % lanes]; }
   KANESENS_MD_INLINE void set_d(int i, double x) { t[i / lanes][i % lanes] = x; }
