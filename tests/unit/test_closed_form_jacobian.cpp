@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "dynamics/residual_derivatives.hpp"
+#include "jacobian_checks.hpp"
 #include "kane_test_support.hpp"
 #include "model/build_model.hpp"
 #include "model/scene/parse_scene.hpp"
@@ -144,21 +145,7 @@ TEST(ClosedFormJacobian, MatchesTheDualPassesAndDifferences) {
       EXPECT_LT(err_residual, 1e-11) << "closed form vs residual pass, trial " << trial;
       EXPECT_LT(err_whole, 1e-11) << "closed form vs whole right-hand side, trial " << trial;
 
-      double efd = 0;
-      const double h = 1e-6;
-      std::vector<double> yp(y), fp(ydot), fm(ydot);
-      for (int j = 0; j < n; ++j) {
-        const std::size_t js = static_cast<std::size_t>(j);
-        yp[js] = y[js] + h;
-        p.rhs(0.3, yp.data(), fp.data());
-        yp[js] = y[js] - h;
-        p.rhs(0.3, yp.data(), fm.data());
-        yp[js] = y[js];
-        for (int r = 0; r < n; ++r) {
-          const std::size_t rs = static_cast<std::size_t>(r);
-          efd = std::max(efd, std::abs((fp[rs] - fm[rs]) / (2 * h) - J[js * n + rs]) / scale);
-        }
-      }
+      const double efd = central_difference_error(p, 0.3, y, J, scale);
       EXPECT_LT(efd, 1e-6) << "closed form vs central differences, trial " << trial;
       std::printf("%s trial %d: closed form vs residual %.2e, vs whole %.2e, vs differences %.2e (n = %d)\n",
                   name.c_str(), trial, err_residual, err_whole, efd, n);

@@ -23,6 +23,7 @@
 #include "model/scene/parse_scene.hpp"
 #include "sim/kane_problem.hpp"
 #include "../support/layers.hpp"
+#include "jacobian_checks.hpp"
 #include "test_scenes.hpp"
 
 namespace {
@@ -103,21 +104,7 @@ TEST(ResidualJacobian, MatchesWholeRhsPassesAndDifferences) {
     EXPECT_LT(err / scale, 1e-11) << "residual vs whole right-hand side";
 
     // Central differences, column by column, relative to J's size.
-    double efd = 0;
-    const double h = 1e-6;
-    std::vector<double> yp(y), fp(ydot), fm(ydot);
-    for (int j = 0; j < n; ++j) {
-      const std::size_t js = static_cast<std::size_t>(j);
-      yp[js] = y[js] + h;
-      p.rhs(0.1, yp.data(), fp.data());
-      yp[js] = y[js] - h;
-      p.rhs(0.1, yp.data(), fm.data());
-      yp[js] = y[js];
-      for (int r = 0; r < n; ++r) {
-        const double Jrj = J[js * n + static_cast<std::size_t>(r)];
-        efd = std::max(efd, std::abs((fp[static_cast<std::size_t>(r)] - fm[static_cast<std::size_t>(r)]) / (2 * h) - Jrj) / scale);
-      }
-    }
+    const double efd = central_difference_error(p, 0.1, y, J, scale);
     EXPECT_LT(efd, 1e-6) << "residual Jacobian vs central differences";
 
     std::printf("%s: residual J vs whole %.2e, vs differences %.2e (n = %d)\n", c.scene.c_str(), err / scale, efd, n);
