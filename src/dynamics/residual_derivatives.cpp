@@ -15,18 +15,6 @@ using V3 = Vec3<double>;
 using V6 = Vec6<double>;
 using M3 = Mat3<double>;
 
-// The spatial inertia about Q (SpatialInertia's convention: h = m (c − Q), I about Q) moved to
-// O = Q − p: h_O = h + m p, I_O = I_Q + (2 h·p + m p·p) 1 − (h pᵀ + p hᵀ + m p pᵀ).
-SpatialInertia<double> about_anchor(const SpatialInertia<double>& X, const V3& p) {
-  SpatialInertia<double> Y;
-  Y.m = X.m;
-  Y.h = X.h + X.m * p;
-  const V3 k = X.h + 0.5 * X.m * p;  // h pᵀ + p hᵀ + m p pᵀ = k pᵀ + p kᵀ
-  Y.I = X.I - (k * p.transpose() + p * k.transpose());
-  Y.I.diagonal().array() += 2 * k.dot(p);
-  return Y;
-}
-
 // B's upper-left block for a body of inertia (m, h, J) about O moving with v = (ω, v0):
 // B = (v×*) I − I (v×) + X(I v), with X(n, f) m = m ×* (n, f), is [B11 0; −2 p× 0] (p = m v0 −
 // h × ω the linear momentum): the off-diagonal products cancel in pairs (ω× h× − h× ω× =
@@ -120,7 +108,10 @@ void ResidualDerivatives::evaluate(const Model& m, const Workspace<double>& ws, 
     const std::vector<int>& moving = m.ancestor_speeds[bi];
     const V6 v = moving.empty() ? V6::Zero() : speeds_[static_cast<std::size_t>(moving.back())].v;
     const V6 a = moving.empty() ? a0 : speeds_[static_cast<std::size_t>(moving.back())].a;
-    const SpatialInertia<double>& I = inertia_[bi] = about_anchor(ws.spatial_inertia[bi], ws.tree_position[bi]);
+    // The inertia about Q moved to the anchor O = Q − tree_position (the parallel-axis shift).
+    SpatialInertia<double>& I = inertia_[bi];
+    I = SpatialInertia<double>();
+    ws.spatial_inertia[bi].add_to_parent(ws.tree_position[bi], I);
     const V6 Iv = I * v, Ia = I * a, vIv = math::cross_force(v, Iv);
     V6 Ig;  // I a0 = (h × a0_v, m a0_v): gravity's part of I a
     Ig.head<3>() = I.h.cross(a0.tail<3>().eval());

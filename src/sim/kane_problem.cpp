@@ -279,9 +279,9 @@ bool KaneProblem::closed_form_jacobian(double t, const double* y, const double* 
   // round-off of its terms.
   constexpr double tol = 1e-8;
   for (int k = 0; k < nu; ++k) {
-    double scale = closed_scale_[static_cast<std::size_t>(k)];
+    double scale = r_scale[k];
     for (int l = 0; l < nu; ++l) scale = std::max(scale, std::abs(wd.mass_matrix(k, l) * udot[l]));
-    if (!(std::abs(closed_r_[static_cast<std::size_t>(k)]) <= tol * scale + 1e-300)) return false;
+    if (!(std::abs(r[k]) <= tol * scale + 1e-300)) return false;
   }
   dynamics::apply_mass_inverse_rows(model_, wd, dr, n, n);  // nq = nu: dr is nu×n
   for (int c = 0; c < n; ++c) {
