@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstddef>
 #include <exception>
 #include <limits>
@@ -133,12 +134,11 @@ class Stepper {
   // and the scaled error (≤ 1: accept). Returns NaN if a stage is not finite.
   double step(double t, double h, SolverStats& stats) {
     for (int i = 1; i < dop853::stages; ++i) {
-      combine(dop853::a[i], i, stage_);
-      for (std::size_t j = 0; j < N_; ++j) stage_[j] = z[j] + h * stage_[j];
+      combine<Into::state>(dop853::a[i], i, stage_, h);
       f(t + dop853::c[i] * h, stage_, k_[static_cast<std::size_t>(i)], stats);
     }
-    combine(dop853::b, dop853::stages, sum_);
-    combine(dop853::e5, dop853::stages, e5_);
+    combine<Into::sum>(dop853::b, dop853::stages, sum_);
+    combine<Into::sum>(dop853::e5, dop853::stages, e5_);
     double e5n = 0, e3n = 0;
     bool finite = true;
     const double *k0 = k_[0].data(), *k8 = k_[8].data(), *k11 = k_[11].data();
@@ -170,8 +170,7 @@ class Stepper {
   void prepare_dense(double t, double h, SolverStats& stats) {
     constexpr int S = dop853::stages + 1;  // stages 1..13, the 13th f at the new point
     for (int i = 0; i < dop853::dense_stages; ++i) {
-      combine(dop853::a_dense[i], S + i, stage_);
-      for (std::size_t j = 0; j < N_; ++j) stage_[j] = z[j] + h * stage_[j];
+      combine<Into::state>(dop853::a_dense[i], S + i, stage_, h);
       auto& ki = k_[static_cast<std::size_t>(S + i)];
       f(t + dop853::c_dense[i] * h, stage_, ki, stats);
       for (double v : ki)
@@ -188,8 +187,7 @@ class Stepper {
     }
     for (int r = 0; r < 4; ++r) {
       auto& c = rcont_[static_cast<std::size_t>(4 + r)];
-      combine(dop853::d[r], S + dop853::dense_stages, c);
-      for (std::size_t j = 0; j < N_; ++j) c[j] *= h;
+      combine<Into::scaled>(dop853::d[r], S + dop853::dense_stages, c, h);
     }
     dense_t_ = t;
     dense_h_ = h;
@@ -261,23 +259,64 @@ class Stepper {
   std::vector<double>& first_stage() { return k_[0]; }
 
  private:
-  // out = Σ_l w[l]·k_l over l < count, term by term in the order of l: the sums of the
-  // tableau's rows, each a pass over the stacked state that the compiler vectorises, and the
-  // tableau's zero weights skipped (they add exact zeros).
-  void combine(const double* w, int count, std::vector<double>& out) const {
+  // out = Σ_l w[l]·k_l over l < count (Into::sum), z + h·Σ (Into::state, a stage's argument)
+  // or h·Σ (Into::scaled), summed term by term in the order of l with the tableau's zero
+  // weights skipped (they add exact zeros). One pass over the stacked state, a block of
+  // `block` components at a time held in registers across the terms: a pass per term, as the
+  // rows' sums would be written naively, stores and reloads the sum once per term, and the
+  // loop overhead of a short state then costs as much as the arithmetic.
+  enum class Into { sum, state, scaled };
+  // A block of components as one register (GCC/Clang vector extension, as wide as the build's
+  // instruction set allows): written as a loop under the loop over terms, the compiler
+  // vectorises across the terms (with gathers) instead.
+#if defined(__AVX512F__)
+  static constexpr std::size_t block = 8;
+#elif defined(__AVX__)
+  static constexpr std::size_t block = 4;
+#else
+  static constexpr std::size_t block = 2;
+#endif
+  using Block = double __attribute__((vector_size(block * sizeof(double))));
+  static Block load(const double* p) {
+    Block v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  }
+  template <Into into>
+  void combine(const double* w, int count, std::vector<double>& out, double h = 1.0) const {
+    const double* kl[dop853::stages + 1 + dop853::dense_stages];
+    double wl[dop853::stages + 1 + dop853::dense_stages];
+    int terms = 0;
+    for (int l = 0; l < count; ++l)
+      if (w[l] != 0) {
+        kl[terms] = k_[static_cast<std::size_t>(l)].data();
+        wl[terms++] = w[l];
+      }
     double* o = out.data();
-    bool first = true;
-    for (int l = 0; l < count; ++l) {
-      const double wl = w[l];
-      if (wl == 0) continue;
-      const double* kl = k_[static_cast<std::size_t>(l)].data();
-      if (first)
-        for (std::size_t j = 0; j < N_; ++j) o[j] = wl * kl[j];
-      else
-        for (std::size_t j = 0; j < N_; ++j) o[j] += wl * kl[j];
-      first = false;
+    const double* zz = z.data();
+    const auto finish = [&](double sum, std::size_t j) {
+      if constexpr (into == Into::state) return zz[j] + h * sum;
+      else if constexpr (into == Into::scaled) return sum * h;
+      else return sum;
+    };
+    if (terms == 0) {
+      for (std::size_t j = 0; j < N_; ++j) o[j] = finish(0.0, j);
+      return;
     }
-    if (first) std::fill(out.begin(), out.end(), 0.0);
+    std::size_t j = 0;
+    for (; j + block <= N_; j += block) {
+      Block acc = wl[0] * load(kl[0] + j);
+#pragma GCC unroll 1  // unrolled, the sum is kept in memory between the terms
+      for (int l = 1; l < terms; ++l) acc += wl[l] * load(kl[l] + j);
+      if constexpr (into == Into::state) acc = load(zz + j) + h * acc;
+      else if constexpr (into == Into::scaled) acc = acc * h;
+      std::memcpy(o + j, &acc, sizeof acc);
+    }
+    for (; j < N_; ++j) {
+      double acc = wl[0] * kl[0][j];
+      for (int l = 1; l < terms; ++l) acc += wl[l] * kl[l][j];
+      o[j] = finish(acc, j);
+    }
   }
 
  public:
