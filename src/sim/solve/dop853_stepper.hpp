@@ -303,16 +303,22 @@ class Stepper {
       for (std::size_t j = 0; j < N_; ++j) o[j] = finish(0.0, j);
       return;
     }
-    std::size_t j = 0;
-    for (; j + block <= N_; j += block) {
+    const auto one_block = [&](std::size_t j) {
       Block acc = wl[0] * load(kl[0] + j);
 #pragma GCC unroll 1  // unrolled, the sum is kept in memory between the terms
       for (int l = 1; l < terms; ++l) acc += wl[l] * load(kl[l] + j);
       if constexpr (into == Into::state) acc = load(zz + j) + h * acc;
       else if constexpr (into == Into::scaled) acc = acc * h;
       std::memcpy(o + j, &acc, sizeof acc);
+    };
+    if (N_ >= block) {
+      // The last components in a block that overlaps the one before (out is none of the inputs,
+      // so they are written again with the same values): a scalar tail costs as much.
+      for (std::size_t j = 0; j + block <= N_; j += block) one_block(j);
+      if (N_ % block) one_block(N_ - block);
+      return;
     }
-    for (; j < N_; ++j) {
+    for (std::size_t j = 0; j < N_; ++j) {
       double acc = wl[0] * kl[0][j];
       for (int l = 1; l < terms; ++l) acc += wl[l] * kl[l][j];
       o[j] = finish(acc, j);
