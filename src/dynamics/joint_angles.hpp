@@ -1,6 +1,7 @@
 // cos and sin of the joint angles that the position stages rotate by (Workspace::coordinate_angles),
-// two at a time on their values (math::sincos2), and their dual-number forms from those values:
-// every scalar type then uses the same values, so a dual pass's values are the double pass's bits.
+// four or two at a time on their values (math::sincos4, sincos2), and their dual-number forms from
+// those values: every scalar type then uses the same values, so a dual pass's values are the
+// double pass's bits.
 // Internal to dynamics/ (kinematics.cpp, planar.cpp).
 #pragma once
 #include "dynamics/workspace.hpp"
@@ -12,7 +13,17 @@ namespace kanesens::dynamics::detail {
 
 template <class S>
 void compute_joint_angles(Workspace<S>& ws, const S* q) {
-  for (std::size_t k = 0; k < ws.coordinate_angles.size(); k += 2) {
+  const std::size_t count = ws.coordinate_angles.size();  // even
+  std::size_t k = 0;
+  for (; k + 4 <= count; k += 4) {
+    const int* a = ws.coordinate_angles.data() + k;
+    const double x[4] = {math::value_of(q[a[0]]), math::value_of(q[a[1]]), math::value_of(q[a[2]]),
+                         math::value_of(q[a[3]])};
+    double s[4], c[4];
+    math::sincos4(x, s, c);
+    for (int i = 0; i < 4; ++i) ws.angle_cos[a[i]] = c[i], ws.angle_sin[a[i]] = s[i];
+  }
+  for (; k < count; k += 2) {
     const int a = ws.coordinate_angles[k], b = ws.coordinate_angles[k + 1];
     const double x[2] = {math::value_of(q[a]), math::value_of(q[b])};
     double s[2], c[2];

@@ -2,10 +2,12 @@
 // the long-double sinl and cosl (which we did not write) over joint-angle ranges, many turns, the
 // hardest arguments (doubles next to multiples of π/2) and tiny angles; lanes out of its range
 // (huge, infinite, NaN) as the C library gives them; and each angle's result independent of the
-// angle it is paired with.
+// angle it is paired with. math::sincos4, its four-lane form, gives every lane sincos2's bits.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 
@@ -14,6 +16,7 @@
 namespace {
 
 using kanesens::math::sincos2;
+using kanesens::math::sincos4;
 
 // |got − ref| in units of the last place of the double nearest ref.
 double ulps(double got, long double ref) {
@@ -102,6 +105,35 @@ TEST(SinCos2, ResultDoesNotDependOnThePartner) {
     sincos2(x2, s2, c2);
     ASSERT_EQ(s1[0], s2[1]);
     ASSERT_EQ(c1[0], c2[1]);
+  }
+}
+
+// Each lane of sincos4 has sincos2's bits (a position stage's values do not depend on how its
+// angles are grouped): angles in range, far ones, and lanes out of range or not finite.
+TEST(SinCos4, EachLaneAsSinCos2) {
+  std::mt19937_64 rng(14);
+  std::uniform_real_distribution<double> angle(-50.0, 50.0), far(-8.2e5, 8.2e5);
+  std::uniform_int_distribution<int> pick(0, 9);
+  const double inf = std::numeric_limits<double>::infinity();
+  const double odd[] = {1e7, -3.3e12, inf, -0.0, std::numeric_limits<double>::quiet_NaN(), 1.5707963267948966};
+  for (int k = 0; k < 20000; ++k) {
+    double x[4];
+    for (double& v : x) {
+      const int p = pick(rng);
+      v = p < 6 ? angle(rng) : p < 8 ? far(rng) : odd[static_cast<std::size_t>(k + p) % 6];
+    }
+    double s4[4], c4[4], s2[4], c2[4];
+    sincos4(x, s4, c4);
+    sincos2(x, s2, c2);
+    sincos2(x + 2, s2 + 2, c2 + 2);
+    for (int i = 0; i < 4; ++i) {
+      if (std::isnan(x[i])) {
+        ASSERT_TRUE(std::isnan(s4[i]) && std::isnan(c4[i]));
+        continue;
+      }
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(s4[i]), std::bit_cast<std::uint64_t>(s2[i])) << x[i];
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(c4[i]), std::bit_cast<std::uint64_t>(c2[i])) << x[i];
+    }
   }
 }
 
