@@ -42,12 +42,66 @@ inline constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.388888888887410
 
 #if defined(__SSE2__)
 namespace sincos_detail {
+// The arithmetic of a packet of angles, the same operations in each lane whatever the width:
+// sincos2 and sincos4 give an angle the same bits.
+struct Lanes2 {
+  using V = __m128d;
+  static V splat(double x) { return _mm_set1_pd(x); }
+  static V add(V x, V y) { return _mm_add_pd(x, y); }
+  static V sub(V x, V y) { return _mm_sub_pd(x, y); }
+  static V mul(V x, V y) { return _mm_mul_pd(x, y); }
+};
+#if defined(__AVX2__)
+struct Lanes4 {
+  using V = __m256d;
+  static V splat(double x) { return _mm256_set1_pd(x); }
+  static V add(V x, V y) { return _mm256_add_pd(x, y); }
+  static V sub(V x, V y) { return _mm256_sub_pd(x, y); }
+  static V mul(V x, V y) { return _mm256_mul_pd(x, y); }
+};
+#endif
+
 // a0 + z (a1 + z (a2 + …)), innermost first.
-template <class... More>
-inline two_lane::V2 horner(two_lane::V2 z, double a0, More... more) {
-  using namespace two_lane;
-  if constexpr (sizeof...(more) == 0) return splat(a0);
-  else return add(splat(a0), mul(z, horner(z, more...)));
+template <class L, class... More>
+inline typename L::V horner(typename L::V z, double a0, More... more) {
+  if constexpr (sizeof...(more) == 0) return L::splat(a0);
+  else return L::add(L::splat(a0), L::mul(z, horner<L>(z, more...)));
+}
+
+// sin and cos of y = x − n π/2 (n the nearest integer to x·2/π, as a double), before the
+// quadrant's swap and signs.
+template <class L>
+inline void reduced_sincos(typename L::V X, typename L::V n, typename L::V& sin_y, typename L::V& cos_y) {
+  using V = typename L::V;
+  const auto splat = L::splat;
+  const auto add = L::add;
+  const auto sub = L::sub;
+  const auto mul = L::mul;
+  // y = x − n π/2 as y0 + y1: the first part's product and difference are exact; the second
+  // and third parts' products are exact and each difference's rounding error (e, by Fast2Sum) is
+  // kept with the last tail in w (fdlibm's e_rem_pio2, with every step taken).
+  V r = sub(X, mul(n, splat(kPio2_1)));
+  V t = r, p = mul(n, splat(kPio2_2));
+  r = sub(t, p);
+  V e = sub(sub(t, r), p);
+  t = r, p = mul(n, splat(kPio2_3));
+  r = sub(t, p);
+  e = add(sub(sub(t, r), p), e);
+  const V w = sub(mul(n, splat(kPio2_3t)), e);
+  const V y0 = sub(r, w);
+  const V y1 = sub(sub(r, y0), w);
+  // sin(y0 + y1) ≈ y0 − ((z (y1/2 − v P) − y1) − v S1), z = y0², v = z y0, P = S2 + z (S3 + …).
+  const V z = mul(y0, y0);
+  const V v = mul(z, y0);
+  const V P = horner<L>(z, S2, S3, S4, S5, S6);
+  sin_y = sub(y0, sub(sub(mul(z, sub(mul(splat(0.5), y1), mul(v, P))), y1), mul(v, splat(S1))));
+  // cos(y0 + y1) ≈ h + (((1 − h) − z/2) + (z Q − y0 y1)), h = 1 − z/2,
+  // Q = z (C1 + z (C2 + z C3)) + z⁴ (C4 + z (C5 + z C6)).
+  const V z2 = mul(z, z);
+  const V Q = add(mul(z, horner<L>(z, C1, C2, C3)), mul(mul(z2, z2), horner<L>(z, C4, C5, C6)));
+  const V hz = mul(splat(0.5), z);
+  const V h = sub(splat(1.0), hz);
+  cos_y = add(h, add(sub(sub(splat(1.0), h), hz), sub(mul(z, Q), mul(y0, y1))));
 }
 }  // namespace sincos_detail
 
@@ -63,32 +117,8 @@ inline void sincos2(const double x[2], double s[2], double c[2]) {
   X = _mm_and_pd(X, in_range);
   // n = nearest integer to x·2/π (the rounding mode's, nearest-even), exactly representable.
   const __m128i N = _mm_cvtpd_epi32(mul(X, splat(kInvPio2)));
-  const V2 n = _mm_cvtepi32_pd(N);
-  // y = x − n π/2 as y0 + y1: the first part's product and difference are exact; the second
-  // and third parts' products are exact and each difference's rounding error (e, by Fast2Sum) is
-  // kept with the last tail in w (fdlibm's e_rem_pio2, with every step taken).
-  V2 r = sub(X, mul(n, splat(kPio2_1)));
-  V2 t = r, p = mul(n, splat(kPio2_2));
-  r = sub(t, p);
-  V2 e = sub(sub(t, r), p);
-  t = r, p = mul(n, splat(kPio2_3));
-  r = sub(t, p);
-  e = add(sub(sub(t, r), p), e);
-  const V2 w = sub(mul(n, splat(kPio2_3t)), e);
-  const V2 y0 = sub(r, w);
-  const V2 y1 = sub(sub(r, y0), w);
-  // sin(y0 + y1) ≈ y0 − ((z (y1/2 − v P) − y1) − v S1), z = y0², v = z y0, P = S2 + z (S3 + …).
-  const V2 z = mul(y0, y0);
-  const V2 v = mul(z, y0);
-  const V2 P = horner(z, S2, S3, S4, S5, S6);
-  const V2 sin_y = sub(y0, sub(sub(mul(z, sub(mul(splat(0.5), y1), mul(v, P))), y1), mul(v, splat(S1))));
-  // cos(y0 + y1) ≈ h + (((1 − h) − z/2) + (z Q − y0 y1)), h = 1 − z/2,
-  // Q = z (C1 + z (C2 + z C3)) + z⁴ (C4 + z (C5 + z C6)).
-  const V2 z2 = mul(z, z);
-  const V2 Q = add(mul(z, horner(z, C1, C2, C3)), mul(mul(z2, z2), horner(z, C4, C5, C6)));
-  const V2 hz = mul(splat(0.5), z);
-  const V2 h = sub(splat(1.0), hz);
-  const V2 cos_y = add(h, add(sub(sub(splat(1.0), h), hz), sub(mul(z, Q), mul(y0, y1))));
+  V2 sin_y, cos_y;
+  reduced_sincos<Lanes2>(X, _mm_cvtepi32_pd(N), sin_y, cos_y);
   // Quadrant n mod 4: odd n swaps sin and cos; sin is negated for n ≡ 2, 3, cos for n ≡ 1, 2.
   const __m128i n64 = _mm_shuffle_epi32(N, _MM_SHUFFLE(1, 1, 0, 0));  // each lane's n in both halves
   const V2 odd = _mm_castsi128_pd(_mm_cmpeq_epi32(_mm_and_si128(n64, _mm_set1_epi32(1)), _mm_set1_epi32(1)));
@@ -112,48 +142,16 @@ inline void sincos2(const double x[2], double s[2], double c[2]) {
 // at once (one chain of dependent steps instead of two; the same bits as sincos2, lane by
 // lane); otherwise sincos2 twice.
 #if defined(__AVX2__)
-namespace sincos_detail {
-using V4 = __m256d;
-inline V4 splat4(double v) {
-  return _mm256_set1_pd(v);
-}
-template <class... More>
-inline V4 horner4(V4 z, double a0, More... more) {
-  if constexpr (sizeof...(more) == 0) return splat4(a0);
-  else return _mm256_add_pd(splat4(a0), _mm256_mul_pd(z, horner4(z, more...)));
-}
-}  // namespace sincos_detail
-
 inline void sincos4(const double x[4], double s[4], double c[4]) {
   using namespace sincos_detail;
-  const auto add = [](V4 a, V4 b) { return _mm256_add_pd(a, b); };
-  const auto sub = [](V4 a, V4 b) { return _mm256_sub_pd(a, b); };
-  const auto mul = [](V4 a, V4 b) { return _mm256_mul_pd(a, b); };
+  using V4 = Lanes4::V;
   V4 X = _mm256_loadu_pd(x);
-  const V4 in_range = _mm256_cmp_pd(_mm256_andnot_pd(splat4(-0.0), X), splat4(kMaxReduced), _CMP_LE_OS);
+  const V4 in_range = _mm256_cmp_pd(_mm256_andnot_pd(Lanes4::splat(-0.0), X), Lanes4::splat(kMaxReduced), _CMP_LE_OS);
   const int lanes_in_range = _mm256_movemask_pd(in_range);
   X = _mm256_and_pd(X, in_range);
-  const __m128i N = _mm256_cvtpd_epi32(mul(X, splat4(kInvPio2)));
-  const V4 n = _mm256_cvtepi32_pd(N);
-  V4 r = sub(X, mul(n, splat4(kPio2_1)));
-  V4 t = r, p = mul(n, splat4(kPio2_2));
-  r = sub(t, p);
-  V4 e = sub(sub(t, r), p);
-  t = r, p = mul(n, splat4(kPio2_3));
-  r = sub(t, p);
-  e = add(sub(sub(t, r), p), e);
-  const V4 w = sub(mul(n, splat4(kPio2_3t)), e);
-  const V4 y0 = sub(r, w);
-  const V4 y1 = sub(sub(r, y0), w);
-  const V4 z = mul(y0, y0);
-  const V4 v = mul(z, y0);
-  const V4 P = horner4(z, S2, S3, S4, S5, S6);
-  const V4 sin_y = sub(y0, sub(sub(mul(z, sub(mul(splat4(0.5), y1), mul(v, P))), y1), mul(v, splat4(S1))));
-  const V4 z2 = mul(z, z);
-  const V4 Q = add(mul(z, horner4(z, C1, C2, C3)), mul(mul(z2, z2), horner4(z, C4, C5, C6)));
-  const V4 hz = mul(splat4(0.5), z);
-  const V4 h = sub(splat4(1.0), hz);
-  const V4 cos_y = add(h, add(sub(sub(splat4(1.0), h), hz), sub(mul(z, Q), mul(y0, y1))));
+  const __m128i N = _mm256_cvtpd_epi32(Lanes4::mul(X, Lanes4::splat(kInvPio2)));
+  V4 sin_y, cos_y;
+  reduced_sincos<Lanes4>(X, _mm256_cvtepi32_pd(N), sin_y, cos_y);
   // Quadrant n mod 4 as in sincos2, with each lane's n widened to 64 bits.
   const __m256i n64 = _mm256_cvtepi32_epi64(N);
   const __m256i one = _mm256_set1_epi64x(1);
