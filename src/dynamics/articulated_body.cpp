@@ -509,15 +509,9 @@ bool articulated_body_accelerations_planar(const Model& m, Workspace<S>& ws) {
     if (J.nu == 1) {
       const PVec<S>& s = ws.partial_planar[k0];
       if (double sg; constant_planar_rotation(m, ws, k0, sg)) {
-        if (sg == 1.0) {  // about +z, the usual axis: the products by sg are exact copies
-          U0 = I00, U1 = I01, U2 = I02;
-          d = I00;
-          u = ws.forcing[k0] - p[0];
-        } else {
-          U0 = I00 * sg, U1 = I01 * sg, U2 = I02 * sg;
-          d = U0 * sg;
-          u = ws.forcing[k0] - p[0] * sg;
-        }
+        U0 = times_sign(I00, sg), U1 = times_sign(I01, sg), U2 = times_sign(I02, sg);
+        d = times_sign(U0, sg);
+        u = ws.forcing[k0] - times_sign(p[0], sg);
       } else {
         U0 = I00 * s[0] + I01 * s[1] + I02 * s[2];
         U1 = I01 * s[0] + I11 * s[1] + I12 * s[2];
@@ -575,7 +569,7 @@ bool articulated_body_accelerations_planar(const Model& m, Workspace<S>& ws) {
     if (J.nu == 1) {
       const PVec<S>& s = ws.partial_planar[k0];
       if (double sg; constant_planar_rotation(m, ws, k0, sg))
-        a0 += sg == 1.0 ? ud : ud * sg;
+        a0 += times_sign(ud, sg);
       else
         a0 += s[0] * ud, a1 += s[1] * ud, a2 += s[2] * ud;
     }

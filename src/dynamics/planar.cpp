@@ -101,7 +101,7 @@ void compute_velocity_planar(const Model& m, Workspace<S>& ws, const S* u) {
     const S* uj = u + J.u_offset;
     const PVec<S>* s = ws.partial_planar.data() + J.u_offset;
     if (double sg; J.nu == 1 && constant_planar_rotation(m, ws, J.u_offset, sg)) {
-      const S w = sg == 1.0 ? uj[0] : uj[0] * sg;
+      const S w = times_sign(uj[0], sg);
       prefix[1] = PVec<S>(prefix[0][0] + w, prefix[0][1], prefix[0][2]);
       const PVec<S>& a = prefix[J.speeds[0].carriers];
       A[1] += a[2] * w;

@@ -36,4 +36,11 @@ bool constant_planar_rotation(const Model& m, const Workspace<S>& ws, int k, dou
   return true;
 }
 
+// x σ for such a σ: x itself when σ = 1 (the usual axis, +z), whose product would be an exact
+// copy on every scalar.
+template <class S>
+S times_sign(const S& x, double sign) {
+  return sign == 1.0 ? x : S(x * sign);
+}
+
 }  // namespace kanesens::dynamics::detail

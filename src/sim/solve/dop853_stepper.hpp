@@ -294,22 +294,22 @@ class Stepper {
       }
     double* o = out.data();
     const double* zz = z.data();
-    const auto finish = [&](double sum, std::size_t j) {
-      if constexpr (into == Into::state) return zz[j] + h * sum;
+    // The row's sum into what `into` asks for, on a component (double) or a block (Block).
+    const auto finish = [&](auto sum, auto z_j) {
+      if constexpr (into == Into::state) return z_j + h * sum;
       else if constexpr (into == Into::scaled) return sum * h;
       else return sum;
     };
     if (terms == 0) {
-      for (std::size_t j = 0; j < N_; ++j) o[j] = finish(0.0, j);
+      for (std::size_t j = 0; j < N_; ++j) o[j] = finish(0.0, zz[j]);
       return;
     }
     const auto one_block = [&](std::size_t j) {
       Block acc = wl[0] * load(kl[0] + j);
 #pragma GCC unroll 1  // unrolled, the sum is kept in memory between the terms
       for (int l = 1; l < terms; ++l) acc += wl[l] * load(kl[l] + j);
-      if constexpr (into == Into::state) acc = load(zz + j) + h * acc;
-      else if constexpr (into == Into::scaled) acc = acc * h;
-      std::memcpy(o + j, &acc, sizeof acc);
+      const Block out_j = finish(acc, load(zz + j));
+      std::memcpy(o + j, &out_j, sizeof out_j);
     };
     if (N_ >= block) {
       // The last components in a block that overlaps the one before (out is none of the inputs,
@@ -321,7 +321,7 @@ class Stepper {
     for (std::size_t j = 0; j < N_; ++j) {
       double acc = wl[0] * kl[0][j];
       for (int l = 1; l < terms; ++l) acc += wl[l] * kl[l][j];
-      o[j] = finish(acc, j);
+      o[j] = finish(acc, zz[j]);
     }
   }
 
