@@ -261,4 +261,23 @@ void cholesky_solve_with_value_factor(const double* U, std::ptrdiff_t ldu, int n
   }
 }
 
+// The same with the reciprocal pivots of cholesky_factor: each quotient a product with the
+// reciprocal, off the critical path of the substitutions as in cholesky_solve.
+template <class S>
+void cholesky_solve_with_value_factor(const double* U, std::ptrdiff_t ldu, int n, const double* inverse_pivots,
+                                      S* x) {
+  for (int i = 0; i < n; ++i) {
+    const double* Ui = U + i * ldu;
+    S s = x[i];
+    for (int k = 0; k < i; ++k) s -= Ui[k] * x[k];
+    x[i] = s * inverse_pivots[i];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    const double* Ui = U + i * ldu;
+    x[i] *= inverse_pivots[i];
+    const S xi = x[i];
+    for (int k = 0; k < i; ++k) x[k] -= Ui[k] * xi;
+  }
+}
+
 }  // namespace kanesens::math
