@@ -15,7 +15,9 @@ For every scene, method and executable: K runs of the plain solve and K runs wit
 sensitivities, all interleaved (plain, sens, next executable, ...) so that machine load hits
 every configuration alike; the figure per configuration is the minimum and the median of
 stats.wall_seconds (the integration itself). Cost per added sensitivity =
-(t_sens − t_plain) / (Ns · t_plain), from the minima. Raw times go to OUT.json.
+(t_sens − t_plain) / (Ns · t_plain), from the minima. Raw times go to OUT.json, with each
+configuration's solver statistics; `evaluations` splits DOP853's figure into evaluation counts
+and the cost of one evaluation (bench/make_tables.py: sensitivity_cost_evaluations).
 """
 import json
 import os
@@ -153,6 +155,28 @@ def table(path):
         print(f"| {row['scene']} | {row['method']} | {row['exe']} | {row['ns']} | {min(tp)*1e3:.2f} ({statistics.median(tp)*1e3:.2f}) | "
               f"{min(ts)*1e3:.2f} ({statistics.median(ts)*1e3:.2f}) | {per_added(row):.2f}x ({per_added(row, statistics.median):.2f}x) | "
               f"{row['stats_plain']['steps']} / {row['stats_sens']['steps']} |")
+
+
+def evaluations(path, target=0.4):
+    """DOP853's figure split in two: per added sensitivity = (e_s/e_p · c − 1) / Ns, with e_p and
+    e_s the right-hand-side evaluations of the plain and the sensitivity solve (more of the latter
+    where the sensitivities' error test adds steps) and c the time of one evaluation with the Ns
+    tangents (stepper work included) over that of one plain evaluation. The last column is the c
+    that would give `target` at these evaluation counts."""
+    r = load_json(path)
+    print(f"The DOP853 rows of that run (minimum times); per added sensitivity = (e_s/e_p · c − 1) / Ns; "
+          f"c for {target}× = (1 + {target} Ns) e_p / e_s.\n")
+    print("| scene | build | evaluations plain / sens | µs per evaluation, plain / with Ns tangents | c | "
+          f"per added sensitivity | c for {target}× |")
+    print("|---|---|---:|---:|---:|---:|---:|")
+    for row in r["rows"]:
+        if row["method"] != "dop853":
+            continue
+        ep, es = row["stats_plain"]["rhs_evals"], row["stats_sens"]["rhs_evals"]
+        tp, ts = min(row["plain_s"]) / ep, min(row["sens_s"]) / es
+        c, ns = ts / tp, row["ns"]
+        print(f"| {row['scene']} | {row['exe']} | {ep} / {es} | {tp*1e6:.3f} / {ts*1e6:.3f} | {c:.2f} | "
+              f"{per_added(row):.2f}x | {(1 + target * ns) * ep / es:.2f} |")
 
 
 if __name__ == "__main__":
