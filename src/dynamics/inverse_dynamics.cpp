@@ -208,7 +208,7 @@ void AccelerationTangents::solve(const Model& m, Workspace<double>& ws, S* x, S*
   const int n = m.nu, nc = m.nconstraint_rows;
   // M⁻¹ δr with M's factor on values (the tree's, or the dense Cholesky of solve_accelerations).
   if (ws.tree_factor) tree::solve(m, ws.cholesky.data(), n, m.speed_order.data(), n, x);
-  else math::cholesky_solve_with_value_factor(ws.cholesky.data(), n, n, ws.inverse_pivots.data(), x);
+  else math::cholesky_solve_with_value_factor(ws.cholesky.data(), n, n, x, ws.inverse_pivots.data());
   if (nc == 0) return;
   // δλ = −(A M⁻¹ Aᵀ)⁻¹ (δc + A M⁻¹ δr); δu̇ = M⁻¹ δr + M⁻¹ Aᵀ δλ.
   for (int j = 0; j < nc; ++j)

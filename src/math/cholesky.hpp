@@ -244,37 +244,24 @@ inline void cholesky_solve_rows(const double* U, std::ptrdiff_t ldu, int n, cons
 }
 
 // x ← (Uᵀ U)⁻¹ x with a factor U on doubles and x on any scalar S: the tangents of x are solved
-// with the value factor (each operation scales S by a double, half the cost of S × S).
+// with the value factor (each operation scales S by a double, half the cost of S × S). Given the
+// reciprocal pivots of cholesky_factor, each quotient is a product with the reciprocal, off the
+// critical path of the substitutions as in cholesky_solve.
 template <class S>
-void cholesky_solve_with_value_factor(const double* U, std::ptrdiff_t ldu, int n, S* x) {
+void cholesky_solve_with_value_factor(const double* U, std::ptrdiff_t ldu, int n, S* x,
+                                      const double* inverse_pivots = nullptr) {
+  const auto over_pivot = [&](const S& y, int i) -> S {
+    return inverse_pivots ? S(y * inverse_pivots[i]) : S(y / U[i * ldu + i]);
+  };
   for (int i = 0; i < n; ++i) {
     const double* Ui = U + i * ldu;
     S s = x[i];
     for (int k = 0; k < i; ++k) s -= Ui[k] * x[k];
-    x[i] = s / Ui[i];
+    x[i] = over_pivot(s, i);
   }
   for (int i = n - 1; i >= 0; --i) {
     const double* Ui = U + i * ldu;
-    x[i] /= Ui[i];
-    const S xi = x[i];
-    for (int k = 0; k < i; ++k) x[k] -= Ui[k] * xi;
-  }
-}
-
-// The same with the reciprocal pivots of cholesky_factor: each quotient a product with the
-// reciprocal, off the critical path of the substitutions as in cholesky_solve.
-template <class S>
-void cholesky_solve_with_value_factor(const double* U, std::ptrdiff_t ldu, int n, const double* inverse_pivots,
-                                      S* x) {
-  for (int i = 0; i < n; ++i) {
-    const double* Ui = U + i * ldu;
-    S s = x[i];
-    for (int k = 0; k < i; ++k) s -= Ui[k] * x[k];
-    x[i] = s * inverse_pivots[i];
-  }
-  for (int i = n - 1; i >= 0; --i) {
-    const double* Ui = U + i * ldu;
-    x[i] *= inverse_pivots[i];
+    x[i] = over_pivot(x[i], i);
     const S xi = x[i];
     for (int k = 0; k < i; ++k) x[k] -= Ui[k] * xi;
   }
