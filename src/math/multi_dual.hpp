@@ -6,9 +6,10 @@
 // derivatives of general constraints.
 //
 // Why hand-written (bench/multitangent_kernels.cpp measures it against ceres::Jet and Eigen's
-// AutoDiffScalar): the tangents are stored first, as 16-byte packs, and every operation is forced
-// inline, so the compiler keeps them in vector registers and never reloads a pack from two scalar
-// stores (a stalled store-to-load forward); the library types lose 2-10x at N ≥ 4 to exactly that.
+// AutoDiffScalar): the tangents are stored as SIMD packs (with the value in the same register
+// when it fits), and every operation is forced inline, so the compiler keeps them in vector
+// registers and never reloads a pack from two scalar stores (a stalled store-to-load forward);
+// the library types lose 2-10x at N ≥ 4 to exactly that.
 // Eigen is told the operations are expensive so that it keeps its reductions as loops (unrolled
 // reductions call Eigen's functors out of line).
 #pragma once
@@ -16,6 +17,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
 
 #define KANESENS_MD_INLINE [[gnu::always_inline]] inline
 
@@ -37,67 +41,162 @@ template <>
 struct PackOf<8> {
   using type = double __attribute__((vector_size(64), aligned(8)));
 };
+
+// Tangents travel in packs of `lanes` doubles (GCC/Clang vector extension): one SIMD register
+// (8 with AVX-512, 4 with AVX, 2 with SSE2: the build's instruction set, KANESENS_ARCH in
+// CMakeLists.txt), narrowed to 2 or 4 for N ≤ 2 or ≤ 4: idle lanes are not free (processors
+// that split 512-bit operations in two halves pay for all eight; docs/benchmarks.md), and the
+// tangent arithmetic is lane by lane, so the values do not depend on the width.
+#if defined(__AVX512F__)
+inline constexpr int register_lanes = 8;
+#elif defined(__AVX__)
+inline constexpr int register_lanes = 4;
+#else
+inline constexpr int register_lanes = 2;
+#endif
+constexpr int multi_dual_lanes(int n) { return std::min(register_lanes, n <= 2 ? 2 : n <= 4 ? 4 : 8); }
+// With AVX-512 and at most 7 tangents the value rides in lane 0 of the tangents' register: an
+// operation is then one vector operation per step (masked where the value's rule differs from
+// the tangents'), not a vector one and a scalar one competing for the same units.
+constexpr bool multi_dual_value_in_pack(int n) { return multi_dual_lanes(n) == 8 && n < 8; }
+
+// The members of MultiDual<N>. 8-byte aligned so that the struct has no padding (GCC copies
+// padding through the stack, which stalls the next load of the value).
+template <int N, int Lanes, bool ValueInPack>
+struct MultiDualStorage {
+  using Pack = typename PackOf<Lanes>::type;
+  static constexpr int packs = (N + Lanes - 1) / Lanes;  // unused lanes of the last pack stay 0
+  Pack t[packs];  // tangents: t[k] holds d_{lanes·k} … d_{lanes·k + lanes − 1}
+  double v;       // value
+};
+template <int N, int Lanes>
+struct MultiDualStorage<N, Lanes, true> {
+  using Pack = typename PackOf<Lanes>::type;
+  static constexpr int packs = 1;
+  union {
+    Pack p;    // lane 0 the value, lanes 1 … N the tangents, the rest 0
+    double v;  // the value: lane 0 of p
+  };
+};
+
+#if defined(__AVX512F__)
+// Lane 0 (the value) from a, lanes 1 … 7 (the tangents) from b.
+template <class Pack>
+KANESENS_MD_INLINE Pack value_then_tangents(Pack a, Pack b) {
+  return reinterpret_cast<Pack>(_mm512_mask_mov_pd(reinterpret_cast<__m512d>(b), 1, reinterpret_cast<__m512d>(a)));
+}
+// a + b on the tangents' lanes, a on the value's.
+template <class Pack>
+KANESENS_MD_INLINE Pack add_to_tangents(Pack a, Pack b) {
+  const __m512d x = reinterpret_cast<__m512d>(a);
+  return reinterpret_cast<Pack>(_mm512_mask_add_pd(x, 0xFE, x, reinterpret_cast<__m512d>(b)));
+}
+// a − b on the tangents' lanes, a on the value's.
+template <class Pack>
+KANESENS_MD_INLINE Pack subtract_from_tangents(Pack a, Pack b) {
+  const __m512d x = reinterpret_cast<__m512d>(a);
+  return reinterpret_cast<Pack>(_mm512_mask_sub_pd(x, 0xFE, x, reinterpret_cast<__m512d>(b)));
+}
+// a + s on the value's lane, a on the tangents'.
+template <class Pack>
+KANESENS_MD_INLINE Pack add_to_value(Pack a, double s) {
+  const __m512d x = reinterpret_cast<__m512d>(a);
+  return reinterpret_cast<Pack>(_mm512_mask_add_pd(x, 1, x, _mm512_set1_pd(s)));
+}
+#else
+// Never instantiated (the value rides in the pack only with AVX-512); defined for the discarded
+// branches' name lookup.
+template <class Pack>
+Pack value_then_tangents(Pack a, Pack b) {
+  b[0] = a[0];
+  return b;
+}
+template <class Pack>
+Pack add_to_tangents(Pack a, Pack b) {
+  return value_then_tangents(a, a + b);
+}
+template <class Pack>
+Pack subtract_from_tangents(Pack a, Pack b) {
+  return value_then_tangents(a, a - b);
+}
+template <class Pack>
+Pack add_to_value(Pack a, double s) {
+  a[0] += s;
+  return a;
+}
+#endif
 }  // namespace detail
 
 template <int N>
-struct MultiDual {
+struct MultiDual : detail::MultiDualStorage<N, detail::multi_dual_lanes(N), detail::multi_dual_value_in_pack(N)> {
   static_assert(N >= 1, "at least one tangent");
-  // Tangents travel in packs of `lanes` doubles (GCC/Clang vector extension): one SIMD register
-  // (8 with AVX-512, 4 with AVX, 2 with SSE2: the build's instruction set, KANESENS_ARCH in
-  // CMakeLists.txt), narrowed to 2 or 4 for N ≤ 2 or ≤ 4: idle lanes are not free (processors
-  // that split 512-bit operations in two halves pay for all eight; docs/benchmarks.md), and the
-  // tangent arithmetic is lane by lane, so the values do not depend on the width. 8-byte
-  // aligned so that the struct has no padding (GCC copies padding through the stack, which
-  // stalls the next load of the value).
-#if defined(__AVX512F__)
-  static constexpr int register_lanes = 8;
-#elif defined(__AVX__)
-  static constexpr int register_lanes = 4;
-#else
-  static constexpr int register_lanes = 2;
-#endif
-  static constexpr int lanes = std::min(register_lanes, N <= 2 ? 2 : N <= 4 ? 4 : 8);
-  using Pack = typename detail::PackOf<lanes>::type;
+  using Storage = detail::MultiDualStorage<N, detail::multi_dual_lanes(N), detail::multi_dual_value_in_pack(N)>;
+  using typename Storage::Pack;
+  using Storage::v;
+  static constexpr int register_lanes = detail::register_lanes;
+  static constexpr int lanes = detail::multi_dual_lanes(N);
+  static constexpr bool value_in_pack = detail::multi_dual_value_in_pack(N);
   static constexpr int tangents = N;
-  static constexpr int packs = (N + lanes - 1) / lanes;  // unused lanes of the last pack stay 0
+  static constexpr int packs = Storage::packs;
 
-  // Default construction leaves both uninitialised, as for double (Eigen default-constructs
-  // its fixed-size temporaries; zero-filling them cost more than the arithmetic).
-  Pack t[packs];  // tangents: t[k] holds d_{lanes·k} … d_{lanes·k + lanes − 1}
-  double v;       // value
-
+  // Default construction leaves the members uninitialised, as for double (Eigen
+  // default-constructs its fixed-size temporaries; zero-filling them cost more than the
+  // arithmetic).
   MultiDual() = default;
-  KANESENS_MD_INLINE constexpr MultiDual(double value) : t{}, v(value) {}  // NOLINT: implicit from constants is intended
+  KANESENS_MD_INLINE constexpr MultiDual(double value) {  // NOLINT: implicit from constants is intended
+    if constexpr (value_in_pack) {
+      this->p = Pack{value};
+    } else {
+      for (int k = 0; k < packs; ++k) this->t[k] = Pack{};
+      v = value;
+    }
+  }
   // Copies member by member, pack by pack: as an aggregate the compiler copies arrays of these
   // (Eigen's vectors of them) in a few wide moves, whose loads then span several narrower stores
   // just made and stall (no store-to-load forwarding).
-  KANESENS_MD_INLINE MultiDual(const MultiDual& o) : v(o.v) {
-    for (int k = 0; k < packs; ++k) t[k] = o.t[k];
-  }
+  KANESENS_MD_INLINE MultiDual(const MultiDual& o) { *this = o; }
   KANESENS_MD_INLINE MultiDual& operator=(const MultiDual& o) {
-    for (int k = 0; k < packs; ++k) t[k] = o.t[k];
-    v = o.v;
+    if constexpr (value_in_pack) {
+      this->p = o.p;
+    } else {
+      for (int k = 0; k < packs; ++k) this->t[k] = o.t[k];
+      v = o.v;
+    }
     return *this;
   }
 
-  KANESENS_MD_INLINE double d(int i) const { return t[i / lanes][i % lanes]; }
-  KANESENS_MD_INLINE void set_d(int i, double x) { t[i / lanes][i % lanes] = x; }
+  KANESENS_MD_INLINE double d(int i) const {
+    if constexpr (value_in_pack) return this->p[i + 1];
+    else return this->t[i / lanes][i % lanes];
+  }
+  KANESENS_MD_INLINE void set_d(int i, double x) {
+    if constexpr (value_in_pack) this->p[i + 1] = x;
+    else this->t[i / lanes][i % lanes] = x;
+  }
   // Tangent i = tangent_i(i) for i < count ≤ N, the rest 0; written a pack at a time (a pack
   // assembled from two scalar stores would stall its next vector load).
   template <class F>
   KANESENS_MD_INLINE void set_tangents(F&& tangent_i, int count) {
-    for (int k = 0; k < packs; ++k) {
-      Pack p = {};
-      for (int l = 0; l < lanes; ++l) {
-        const int i = lanes * k + l;
-        p[l] = i < count ? tangent_i(i) : 0.0;
+    if constexpr (value_in_pack) {
+      Pack q = {v};
+      for (int i = 0; i < N; ++i) q[i + 1] = i < count ? tangent_i(i) : 0.0;
+      this->p = q;
+    } else {
+      for (int k = 0; k < packs; ++k) {
+        Pack q = {};
+        for (int l = 0; l < lanes; ++l) {
+          const int i = lanes * k + l;
+          q[l] = i < count ? tangent_i(i) : 0.0;
+        }
+        this->t[k] = q;
       }
-      t[k] = p;
     }
   }
   // Tangents −= a's tangents · s (the tangent right-hand sides of a reused factorisation).
   KANESENS_MD_INLINE void subtract_tangents(const MultiDual& a, double s) {
-    for (int k = 0; k < packs; ++k) t[k] -= a.t[k] * s;
+    if constexpr (value_in_pack) this->p = detail::subtract_from_tangents(this->p, a.p * s);
+    else
+      for (int k = 0; k < packs; ++k) this->t[k] -= a.t[k] * s;
   }
   // Value with tangent 1 in direction i and 0 in the others (seeding an input).
   static MultiDual seeded(double value, int i) {
@@ -107,31 +206,61 @@ struct MultiDual {
   }
 
   KANESENS_MD_INLINE MultiDual& operator+=(const MultiDual& o) {
-    v += o.v;
-    for (int k = 0; k < packs; ++k) t[k] += o.t[k];
+    if constexpr (value_in_pack) {
+      this->p += o.p;
+    } else {
+      v += o.v;
+      for (int k = 0; k < packs; ++k) this->t[k] += o.t[k];
+    }
     return *this;
   }
   KANESENS_MD_INLINE MultiDual& operator-=(const MultiDual& o) {
-    v -= o.v;
-    for (int k = 0; k < packs; ++k) t[k] -= o.t[k];
+    if constexpr (value_in_pack) {
+      this->p -= o.p;
+    } else {
+      v -= o.v;
+      for (int k = 0; k < packs; ++k) this->t[k] -= o.t[k];
+    }
     return *this;
   }
+  // (a b)' = a' b + a b': the first product's lane 0 is the value a b.
   KANESENS_MD_INLINE MultiDual& operator*=(const MultiDual& o) {
-    for (int k = 0; k < packs; ++k) t[k] = t[k] * o.v + v * o.t[k];
-    v *= o.v;
+    if constexpr (value_in_pack) {
+      this->p = detail::add_to_tangents(this->p * o.v, v * o.p);
+    } else {
+      for (int k = 0; k < packs; ++k) this->t[k] = this->t[k] * o.v + v * o.t[k];
+      v *= o.v;
+    }
     return *this;
   }
   KANESENS_MD_INLINE MultiDual& operator/=(const MultiDual& o) {
     const double inv = 1.0 / o.v;
-    v *= inv;
-    for (int k = 0; k < packs; ++k) t[k] = (t[k] - v * o.t[k]) * inv;
+    const double q = v * inv;
+    if constexpr (value_in_pack) {
+      this->p = detail::value_then_tangents(Pack{q}, (this->p - q * o.p) * inv);
+    } else {
+      v = q;
+      for (int k = 0; k < packs; ++k) this->t[k] = (this->t[k] - q * o.t[k]) * inv;
+    }
     return *this;
   }
-  KANESENS_MD_INLINE MultiDual& operator+=(double s) { v += s; return *this; }
-  KANESENS_MD_INLINE MultiDual& operator-=(double s) { v -= s; return *this; }
+  KANESENS_MD_INLINE MultiDual& operator+=(double s) {
+    if constexpr (value_in_pack) this->p = detail::add_to_value(this->p, s);
+    else v += s;
+    return *this;
+  }
+  KANESENS_MD_INLINE MultiDual& operator-=(double s) {
+    if constexpr (value_in_pack) this->p = detail::add_to_value(this->p, -s);
+    else v -= s;
+    return *this;
+  }
   KANESENS_MD_INLINE MultiDual& operator*=(double s) {
-    v *= s;
-    for (int k = 0; k < packs; ++k) t[k] *= s;
+    if constexpr (value_in_pack) {
+      this->p *= s;
+    } else {
+      v *= s;
+      for (int k = 0; k < packs; ++k) this->t[k] *= s;
+    }
     return *this;
   }
   KANESENS_MD_INLINE MultiDual& operator/=(double s) { return *this *= (1.0 / s); }
@@ -142,8 +271,12 @@ template <int N> KANESENS_MD_INLINE MultiDual<N> operator-(MultiDual<N> a, const
 template <int N>
 KANESENS_MD_INLINE MultiDual<N> operator*(const MultiDual<N>& a, const MultiDual<N>& b) {
   MultiDual<N> r;  // every member is written below
-  r.v = a.v * b.v;
-  for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = a.t[k] * b.v + a.v * b.t[k];
+  if constexpr (MultiDual<N>::value_in_pack) {
+    r.p = detail::add_to_tangents(a.p * b.v, a.v * b.p);
+  } else {
+    r.v = a.v * b.v;
+    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = a.t[k] * b.v + a.v * b.t[k];
+  }
   return r;
 }
 template <int N> KANESENS_MD_INLINE MultiDual<N> operator/(MultiDual<N> a, const MultiDual<N>& b) { return a /= b; }
@@ -153,8 +286,12 @@ template <int N> KANESENS_MD_INLINE MultiDual<N> operator-(MultiDual<N> a, doubl
 template <int N>
 KANESENS_MD_INLINE MultiDual<N> operator-(double a, const MultiDual<N>& b) {
   MultiDual<N> r;
-  r.v = a - b.v;
-  for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = -b.t[k];
+  if constexpr (MultiDual<N>::value_in_pack) {
+    r.p = detail::value_then_tangents(typename MultiDual<N>::Pack{a - b.v}, -b.p);
+  } else {
+    r.v = a - b.v;
+    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = -b.t[k];
+  }
   return r;
 }
 template <int N> KANESENS_MD_INLINE MultiDual<N> operator*(MultiDual<N> a, double b) { return a *= b; }
@@ -164,16 +301,25 @@ template <int N>
 KANESENS_MD_INLINE MultiDual<N> operator/(double a, const MultiDual<N>& b) {
   MultiDual<N> r;
   const double inv = 1.0 / b.v;
-  r.v = a * inv;
-  const double k = -r.v * inv;
-  for (int i = 0; i < MultiDual<N>::packs; ++i) r.t[i] = k * b.t[i];
+  const double q = a * inv;
+  const double k = -q * inv;
+  if constexpr (MultiDual<N>::value_in_pack) {
+    r.p = detail::value_then_tangents(typename MultiDual<N>::Pack{q}, k * b.p);
+  } else {
+    r.v = q;
+    for (int i = 0; i < MultiDual<N>::packs; ++i) r.t[i] = k * b.t[i];
+  }
   return r;
 }
 template <int N>
 KANESENS_MD_INLINE MultiDual<N> operator-(const MultiDual<N>& a) {
   MultiDual<N> r;
-  r.v = -a.v;
-  for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = -a.t[k];
+  if constexpr (MultiDual<N>::value_in_pack) {
+    r.p = -a.p;
+  } else {
+    r.v = -a.v;
+    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = -a.t[k];
+  }
   return r;
 }
 template <int N> KANESENS_MD_INLINE MultiDual<N> operator+(const MultiDual<N>& a) { return a; }
@@ -197,8 +343,12 @@ namespace multi_dual_detail {
 template <int N>
 KANESENS_MD_INLINE MultiDual<N> chain(double f, double df, const MultiDual<N>& a) {
   MultiDual<N> r;
-  r.v = f;
-  for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = df * a.t[k];
+  if constexpr (MultiDual<N>::value_in_pack) {
+    r.p = detail::value_then_tangents(typename MultiDual<N>::Pack{f}, df * a.p);
+  } else {
+    r.v = f;
+    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = df * a.t[k];
+  }
   return r;
 }
 }  // namespace multi_dual_detail
@@ -225,8 +375,12 @@ template <int N>
 MultiDual<N> atan2(const MultiDual<N>& y, const MultiDual<N>& x) {
   const double inv = 1 / (x.v * x.v + y.v * y.v), cy = x.v * inv, cx = -y.v * inv;
   MultiDual<N> r;
-  r.v = std::atan2(y.v, x.v);
-  for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = cy * y.t[k] + cx * x.t[k];
+  if constexpr (MultiDual<N>::value_in_pack) {
+    r.p = detail::value_then_tangents(typename MultiDual<N>::Pack{std::atan2(y.v, x.v)}, cy * y.p + cx * x.p);
+  } else {
+    r.v = std::atan2(y.v, x.v);
+    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = cy * y.t[k] + cx * x.t[k];
+  }
   return r;
 }
 template <int N>
@@ -248,7 +402,9 @@ MultiDual<N> pow(const MultiDual<N>& a, const MultiDual<N>& b) {
   MultiDual<N> r = multi_dual_detail::chain(p, b.v * std::pow(a.v, b.v - 1), a);
   if (a.v > 0) {
     const double db = p * std::log(a.v);
-    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] += db * b.t[k];
+    if constexpr (MultiDual<N>::value_in_pack) r.p = detail::add_to_tangents(r.p, db * b.p);
+    else
+      for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] += db * b.t[k];
   }
   return r;
 }

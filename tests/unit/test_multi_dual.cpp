@@ -32,7 +32,8 @@ S kitchen_sink(const S& x, const S& y, const S& z) {
   r -= atan2(y, x) * exp(z) + log(x * x + 1.0) + sqrt(y * y + 2.0) + abs(z - x);
   r *= pow(x * x + 0.5, y) + 1.0 / (x + 4.0);
   r /= (3.0 - z) * 0.5;
-  r += (x < y ? x : y) + (-z);
+  r += (x < y ? x : y) + (-z) + (x - 0.25);
+  r -= 0.125;
   return r;
 }
 
@@ -60,6 +61,8 @@ TEST(MultiDual, EveryTangentMatchesDual) {
   expect_matches_dual<1>();
   expect_matches_dual<3>();
   expect_matches_dual<4>();
+  expect_matches_dual<6>();
+  expect_matches_dual<7>();
   expect_matches_dual<8>();
   expect_matches_dual<13>();
 }
@@ -72,19 +75,28 @@ std::array<double, 3> first_two_tangents() {
   x.set_tangents([&](int i) { return i < 2 ? seeds[0][i] : 0.5; }, N);
   y.set_tangents([&](int i) { return i < 2 ? seeds[1][i] : -0.5; }, N);
   z.set_tangents([&](int i) { return i < 2 ? seeds[2][i] : 0.25; }, N);
-  const MultiDual<N> r = kitchen_sink(x, y, z);
+  MultiDual<N> r = kitchen_sink(x, y, z);
+  r.subtract_tangents(y, 0.75);
   return {r.v, r.d(0), r.d(1)};
 }
 
 TEST(MultiDual, TangentsDoNotDependOnTheWidth) {
-  // Narrow widths take narrower packs (MultiDual::lanes); the arithmetic is lane by lane, so a
-  // direction's tangent is the same bits at every width.
+  // Narrow widths take narrower packs (MultiDual::lanes), and with 8-lane registers up to 7
+  // tangents share the pack with the value; the arithmetic is lane by lane, so a direction's
+  // tangent is the same bits at every width and in either layout.
   const std::array<double, 3> two = first_two_tangents<2>();
   EXPECT_EQ(first_two_tangents<4>(), two);
   EXPECT_EQ(first_two_tangents<6>(), two);
+  EXPECT_EQ(first_two_tangents<7>(), two);
   EXPECT_EQ(first_two_tangents<13>(), two);
   EXPECT_EQ(MultiDual<2>::packs, 1);
   EXPECT_EQ(MultiDual<4>::packs, 1);
+  EXPECT_EQ(MultiDual<6>::value_in_pack, MultiDual<6>::register_lanes == 8);
+  EXPECT_FALSE(MultiDual<13>::value_in_pack);
+  if (MultiDual<6>::value_in_pack) {
+    EXPECT_EQ(sizeof(MultiDual<6>), 8 * sizeof(double));
+    EXPECT_EQ(sizeof(MultiDual<7>), 8 * sizeof(double));
+  }
 }
 
 TEST(MultiDual, SeedingAndUnusedLanes) {
