@@ -90,7 +90,7 @@ TEST(MultiDual, TangentsDoNotDependOnTheWidth) {
   EXPECT_EQ(first_two_tangents<7>(), two);
   EXPECT_EQ(first_two_tangents<13>(), two);
   EXPECT_EQ(MultiDual<2>::packs, 1);
-  EXPECT_EQ(MultiDual<4>::packs, 1);
+  EXPECT_EQ(MultiDual<4>::packs, MultiDual<4>::register_lanes >= 4 ? 1 : 2);  // 2 with SSE2 only
   EXPECT_EQ(MultiDual<6>::value_in_pack, MultiDual<6>::register_lanes == 8);
   EXPECT_FALSE(MultiDual<13>::value_in_pack);
   if (MultiDual<6>::value_in_pack) {
