@@ -69,8 +69,10 @@ struct MultiDualStorage {
   Pack t[packs];  // tangents: t[k] holds d_{lanes·k} … d_{lanes·k + lanes − 1}
   double v;       // value
 };
+// One 64-byte register's worth, aligned to it (no larger for that) so that no load of a number
+// spans two cache lines.
 template <int N, int Lanes>
-struct MultiDualStorage<N, Lanes, true> {
+struct alignas(64) MultiDualStorage<N, Lanes, true> {
   using Pack = typename PackOf<Lanes>::type;
   static constexpr int packs = 1;
   union {
