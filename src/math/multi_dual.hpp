@@ -17,7 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#if defined(__AVX512F__)
+#if defined(__AVX512F__) || defined(__FMA__)
 #include <immintrin.h>
 #endif
 
@@ -81,7 +81,32 @@ struct alignas(64) MultiDualStorage<N, Lanes, true> {
   };
 };
 
+// s b + c, rounded once where the processor has fused multiply-adds: the tangent part of a
+// product, a' b + a b', as a' b then a b' added to it.
+template <class Pack>
+KANESENS_MD_INLINE Pack multiply_add(double s, Pack b, Pack c) {
+#if defined(__FMA__)
+  if constexpr (sizeof(Pack) == 16) {
+    return reinterpret_cast<Pack>(_mm_fmadd_pd(_mm_set1_pd(s), reinterpret_cast<__m128d>(b), reinterpret_cast<__m128d>(c)));
+  } else if constexpr (sizeof(Pack) == 32) {
+    return reinterpret_cast<Pack>(
+        _mm256_fmadd_pd(_mm256_set1_pd(s), reinterpret_cast<__m256d>(b), reinterpret_cast<__m256d>(c)));
+  } else {
+    return reinterpret_cast<Pack>(
+        _mm512_fmadd_pd(_mm512_set1_pd(s), reinterpret_cast<__m512d>(b), reinterpret_cast<__m512d>(c)));
+  }
+#else
+  return s * b + c;
+#endif
+}
+
 #if defined(__AVX512F__)
+// multiply_add on the tangents' lanes, c on the value's.
+template <class Pack>
+KANESENS_MD_INLINE Pack multiply_add_to_tangents(double s, Pack b, Pack c) {
+  return reinterpret_cast<Pack>(
+      _mm512_mask3_fmadd_pd(_mm512_set1_pd(s), reinterpret_cast<__m512d>(b), reinterpret_cast<__m512d>(c), 0xFE));
+}
 // Lane 0 (the value) from a, lanes 1 … 7 (the tangents) from b.
 template <class Pack>
 KANESENS_MD_INLINE Pack value_then_tangents(Pack a, Pack b) {
@@ -125,6 +150,10 @@ template <class Pack>
 Pack add_to_value(Pack a, double s) {
   a[0] += s;
   return a;
+}
+template <class Pack>
+Pack multiply_add_to_tangents(double s, Pack b, Pack c) {
+  return value_then_tangents(c, multiply_add(s, b, c));
 }
 #endif
 }  // namespace detail
@@ -228,9 +257,9 @@ struct MultiDual : detail::MultiDualStorage<N, detail::multi_dual_lanes(N), deta
   // (a b)' = a' b + a b': the first product's lane 0 is the value a b.
   KANESENS_MD_INLINE MultiDual& operator*=(const MultiDual& o) {
     if constexpr (value_in_pack) {
-      this->p = detail::add_to_tangents(this->p * o.v, v * o.p);
+      this->p = detail::multiply_add_to_tangents(v, o.p, this->p * o.v);
     } else {
-      for (int k = 0; k < packs; ++k) this->t[k] = this->t[k] * o.v + v * o.t[k];
+      for (int k = 0; k < packs; ++k) this->t[k] = detail::multiply_add(v, o.t[k], this->t[k] * o.v);
       v *= o.v;
     }
     return *this;
@@ -274,10 +303,10 @@ template <int N>
 KANESENS_MD_INLINE MultiDual<N> operator*(const MultiDual<N>& a, const MultiDual<N>& b) {
   MultiDual<N> r;  // every member is written below
   if constexpr (MultiDual<N>::value_in_pack) {
-    r.p = detail::add_to_tangents(a.p * b.v, a.v * b.p);
+    r.p = detail::multiply_add_to_tangents(a.v, b.p, a.p * b.v);
   } else {
     r.v = a.v * b.v;
-    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = a.t[k] * b.v + a.v * b.t[k];
+    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = detail::multiply_add(a.v, b.t[k], a.t[k] * b.v);
   }
   return r;
 }
