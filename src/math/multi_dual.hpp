@@ -131,30 +131,18 @@ KANESENS_MD_INLINE Pack add_to_value(Pack a, double s) {
   return reinterpret_cast<Pack>(_mm512_mask_add_pd(x, 1, x, _mm512_set1_pd(s)));
 }
 #else
-// Never instantiated (the value rides in the pack only with AVX-512); defined for the discarded
-// branches' name lookup.
+// The value rides in the pack only with AVX-512: elsewhere these are only named, in discarded
+// branches, and need no definition.
 template <class Pack>
-Pack value_then_tangents(Pack a, Pack b) {
-  b[0] = a[0];
-  return b;
-}
+Pack multiply_add_to_tangents(double s, Pack b, Pack c);
 template <class Pack>
-Pack add_to_tangents(Pack a, Pack b) {
-  return value_then_tangents(a, a + b);
-}
+Pack value_then_tangents(Pack a, Pack b);
 template <class Pack>
-Pack subtract_from_tangents(Pack a, Pack b) {
-  return value_then_tangents(a, a - b);
-}
+Pack add_to_tangents(Pack a, Pack b);
 template <class Pack>
-Pack add_to_value(Pack a, double s) {
-  a[0] += s;
-  return a;
-}
+Pack subtract_from_tangents(Pack a, Pack b);
 template <class Pack>
-Pack multiply_add_to_tangents(double s, Pack b, Pack c) {
-  return value_then_tangents(c, multiply_add(s, b, c));
-}
+Pack add_to_value(Pack a, double s);
 #endif
 }  // namespace detail
 
