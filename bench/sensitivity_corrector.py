@@ -1,12 +1,17 @@
 #!/usr/bin/python3
-"""CVODES's sensitivity correctors side by side: `solver.sensitivity.method` simultaneous,
-staggered and staggered1 on the same study, with BDF and Adams and Ns sensitivities.
+"""The sensitivity correctors side by side: `solver.sensitivity.method` simultaneous, staggered
+and staggered1 (CVODES's sensitivity module) and stacked on the same study, with BDF and Adams
+and Ns sensitivities.
 
   sensitivity_corrector.py OUT.json [--exe build/kanesens] [--runs K] [--scenes a,b] [--methods m,n]
-                           [--ns 1,2,6] [--correctors simultaneous,staggered,staggered1]
+                           [--ns 1,2,6] [--correctors simultaneous,staggered,staggered1,stacked]
                            [--error-control true,false]
   sensitivity_corrector.py --table OUT.json      # every configuration
-  sensitivity_corrector.py --summary OUT.json    # the default against the former default
+  sensitivity_corrector.py --summary OUT.json    # simultaneous against staggered
+  sensitivity_corrector.py --stacked OUT.json    # stacked against the module's corrector auto takes
+
+A corrector a configuration does not offer (stacked with the embedding's restarts) is left out of
+that configuration's row.
 
 For every scene, method and Ns: K rounds, each running every corrector once (interleaved, so that
 machine load hits them alike). The figure per configuration is the median of stats.wall_seconds
@@ -55,6 +60,8 @@ def run(exe, study, method, sens, corrector, extra):
     for s in extra:
         args += ["--set", s]
     p = subprocess.run(args, capture_output=True, text=True)
+    if p.returncode != 0 and f"sensitivity.method = {corrector}:" in p.stderr:
+        return None  # not offered for this configuration
     d = json.loads(p.stdout)
     if d["status"] != 1:
         raise RuntimeError(f"{' '.join(args)}: {d.get('message')}")
@@ -88,6 +95,8 @@ def measure(out, exe, runs, scenes, methods, counts, correctors, controls):
             for _ in range(runs):
                 for c in correctors:
                     d = run(exe, study, method, sens, c, extra)
+                    if d is None:
+                        continue
                     times[c].append(d["stats"]["wall_seconds"])
                     last[c] = d
             ref = flat(last[correctors[0]])
@@ -97,13 +106,15 @@ def measure(out, exe, runs, scenes, methods, counts, correctors, controls):
                    "constrained": constrained, "projection": (name, method) in PROJECTION, "set": extra,
                    "results": {}}
             for c in correctors:
+                if c not in last:
+                    continue
                 s = flat(last[c])
                 diff = max(abs(a - b) for a, b in zip(s, ref))
                 row["results"][c] = {"wall_s": times[c], "stats": last[c]["stats"],
                                      "max_abs_diff": diff}
             result["rows"].append(row)
             print(name, method, ec, ns, " ".join(f"{c}={statistics.median(times[c]) * 1e3:.2f}ms"
-                                             for c in correctors), file=sys.stderr)
+                                             for c in correctors if times[c]), file=sys.stderr)
     result["meta"] = common.provenance(load_start)
     with open(out, "w") as f:
         json.dump(result, f, indent=1)
@@ -120,52 +131,98 @@ def table(path):
           " | max diff | max abs |")
     print("|---|---|---|---:|" + "---:|" * len(cs) + "---|---:|---:|---:|")
     for row in r["rows"]:
-        med = {c: statistics.median(row["results"][c]["wall_s"]) for c in cs}
+        res = row["results"]
+        med = {c: statistics.median(res[c]["wall_s"]) for c in cs if c in res}
         base = med.get("staggered", med[cs[0]])
-        cells = [f"{med[c] * 1e3:.2f} ({med[c] / base:.2f})" for c in cs]
-        steps = " / ".join(str(row["results"][c]["stats"]["steps"]) for c in cs)
-        diff = max(row["results"][c]["max_abs_diff"] for c in cs)
+        cells = [f"{med[c] * 1e3:.2f} ({med[c] / base:.2f})" if c in med else "—" for c in cs]
+        steps = " / ".join(str(res[c]["stats"]["steps"]) if c in res else "—" for c in cs)
+        diff = max(res[c]["max_abs_diff"] for c in med)
         ec = "on" if row["error_control"] else "off"
         print(f"| {row['scene']} | {row['method']} | {ec} | {row['ns']} | " + " | ".join(cells) +
-              f" | {min(cs, key=med.get)} | {steps} | {diff:.1e} | {row['max_abs_sensitivity']:.1e} |")
+              f" | {min(med, key=med.get)} | {steps} | {diff:.1e} | {row['max_abs_sensitivity']:.1e} |")
+
+
+def grouped(path):
+    """The run, its rows grouped by (scene, method, error control), and the Ns values in order."""
+    with open(path) as f:
+        r = json.load(f)
+    groups, counts = {}, []
+    for row in r["rows"]:
+        groups.setdefault((row["scene"], row["method"], row["error_control"]), []).append(row)
+        if row["ns"] not in counts:
+            counts.append(row["ns"])
+    return r, groups, counts
+
+
+def per_ns(rows, counts, cell):
+    """One cell per Ns of a group's rows: cell(row) gives (text, relative difference) or None (—);
+    the cells and the largest difference."""
+    cells, rel = [], 0.0
+    for k in counts:
+        row = next((x for x in rows if x["ns"] == k), None)
+        got = cell(row) if row is not None else None
+        cells.append(got[0] if got else "—")
+        rel = max(rel, got[1] if got else 0.0)
+    return cells, rel
+
+
+def relative(row, results):
+    """The largest of the results' differences from the first corrector's sensitivities, relative to
+    the largest |sensitivity| (0 for a parameter whose sensitivities are round-off)."""
+    if row["max_abs_sensitivity"] <= 1e-12:
+        return 0.0
+    return max(v["max_abs_diff"] for v in results) / row["max_abs_sensitivity"]
+
+
+def stacked_summary(path):
+    """stacked against the corrector of CVODES's module that auto takes where stacked does not apply
+    (staggered with projection, simultaneous without): medians, ratio and steps per scene, method and
+    error control, one column per Ns."""
+    r, groups, counts = grouped(path)
+    print(f"Median of {r['runs']} interleaved runs, one solve per process: `stacked` / the module's corrector "
+          "(`staggered` with projection, `simultaneous` without) in ms (ratio) [steps]; the largest difference "
+          "of either's sensitivities from `simultaneous`'s, relative to the largest |sensitivity|.\n")
+    print("| scene | method | error control | module | " + " | ".join(f"Ns = {k}" for k in counts) +
+          " | max rel. diff |")
+    print("|---|---|---|---|" + "---:|" * len(counts) + "---:|")
+    for (scene, method, ec), rows in groups.items():
+        module = "staggered" if rows[0]["projection"] else "simultaneous"
+
+        def cell(row):
+            if "stacked" not in row["results"]:
+                return None
+            a, b = row["results"]["stacked"], row["results"][module]
+            ta, tb = statistics.median(a["wall_s"]), statistics.median(b["wall_s"])
+            return (f"{ta * 1e3:.1f} / {tb * 1e3:.1f} ({ta / tb:.2f}) [{a['stats']['steps']} / {b['stats']['steps']}]",
+                    relative(row, [a, b]))
+        cells, rel = per_ns(rows, counts, cell)
+        print(f"| {scene} | {method} | {'on' if ec else 'off'} | {module} | " + " | ".join(cells) + f" | {rel:.0e} |")
 
 
 def summary(path):
-    """simultaneous against staggered (the former default): medians and their ratio per scene, method
-    and error control, one column per Ns; what sensitivity.method: auto picks there."""
-    with open(path) as f:
-        r = json.load(f)
-    groups, counts, auto = {}, [], {}
-    for row in r["rows"]:
-        groups.setdefault((row["scene"], row["method"], row["error_control"]), []).append(row)
-        auto[(row["scene"], row["method"], row["error_control"])] = "staggered" if row["projection"] else "simultaneous"
-        if row["ns"] not in counts:
-            counts.append(row["ns"])
+    """simultaneous against staggered: medians and their ratio per scene, method and error control, one
+    column per Ns; which of the two sensitivity.method: auto picks there when stacked does not apply."""
+    r, groups, counts = grouped(path)
     print(f"Median of {r['runs']} interleaved runs: `simultaneous` / `staggered` in ms (ratio); "
           "the largest difference between the correctors' sensitivities relative to the largest "
           "|sensitivity|.\n")
-    print("| scene | method | error control | " + " | ".join(f"Ns = {k}" for k in counts) + " | max rel. diff | auto |")
+    print("| scene | method | error control | " + " | ".join(f"Ns = {k}" for k in counts) +
+          " | max rel. diff | auto, where stacked does not apply |")
     print("|---|---|---|" + "---:|" * len(counts) + "---:|---|")
     for (scene, method, ec), rows in groups.items():
-        cells, rel = [], 0.0
-        for k in counts:
-            row = next((x for x in rows if x["ns"] == k), None)
-            if row is None:
-                cells.append("—")
-                continue
+        def cell(row):
             a = statistics.median(row["results"]["simultaneous"]["wall_s"])
             b = statistics.median(row["results"]["staggered"]["wall_s"])
-            cells.append(f"{a * 1e3:.1f} / {b * 1e3:.1f} ({a / b:.2f})")
-            if row["max_abs_sensitivity"] > 1e-12:
-                rel = max(rel, max(v["max_abs_diff"] for v in row["results"].values()) / row["max_abs_sensitivity"])
+            return f"{a * 1e3:.1f} / {b * 1e3:.1f} ({a / b:.2f})", relative(row, row["results"].values())
+        cells, rel = per_ns(rows, counts, cell)
         print(f"| {scene} | {method} | {'on' if ec else 'off'} | " + " | ".join(cells) + f" | {rel:.0e} | "
-              f"{auto[(scene, method, ec)]} |")
+              f"{'staggered' if rows[0]['projection'] else 'simultaneous'} |")
 
 
 if __name__ == "__main__":
     argv = sys.argv[1:]
-    if len(argv) == 2 and argv[0] in ("--table", "--summary"):
-        (table if argv[0] == "--table" else summary)(argv[1])
+    if len(argv) == 2 and argv[0] in ("--table", "--summary", "--stacked"):
+        {"--table": table, "--summary": summary, "--stacked": stacked_summary}[argv[0]](argv[1])
         sys.exit(0)
     if not argv:
         sys.exit(__doc__)

@@ -160,8 +160,9 @@ TEST(ConstraintSensitivities, StabilizationsAgainstFiniteDifferences) {
   }
 }
 
-// Both of CVODES's sensitivity correctors under projection, against the same finite differences
-// and bounds. The simultaneous corrector tests the state's and the sensitivities' local errors as
+// Both of CVODES's sensitivity correctors, and the stacked system (which projects the state
+// block and keeps the sensitivities' errors in its norm), under projection, against the same
+// finite differences and bounds. The simultaneous corrector tests the state's and the sensitivities' local errors as
 // one norm, which CVODES's projection step recomputes from the projected state error alone; the
 // projection callback puts the sensitivities back (sim/solve/cvodes_callbacks.cpp). Without it
 // the simultaneous errors were 8.3e-4 (rtol 1e-6) and 2.5e-5 (rtol 1e-8), growing step by step,
@@ -174,10 +175,11 @@ TEST(ConstraintSensitivities, ProjectionWithEitherCorrectorAgainstFiniteDifferen
     double limit;  // on the L, theta0, u0 errors (staggered measures 1.4e-5 and 3.8e-7)
   };
   for (const Row& row : {Row{1e-6, 5e-5}, Row{1e-8, 1.5e-6}})
-    for (SensitivityMethod corrector : {SensitivityMethod::staggered, SensitivityMethod::simultaneous}) {
+    for (SensitivityMethod corrector :
+         {SensitivityMethod::staggered, SensitivityMethod::simultaneous, SensitivityMethod::stacked}) {
       const Measured m = measure(model, Stab::projection, row.rtol, true, corrector);
-      const char* name = corrector == SensitivityMethod::staggered ? "staggered" : "simultaneous";
-      std::printf("rtol %.0e %-12s steps %ld  dy/dL %.1e  dy/dtheta0 %.1e  dy/du0 %.1e\n", row.rtol, name, m.steps,
+      const std::string name(ks::sim::to_string(corrector));
+      std::printf("rtol %.0e %-12s steps %ld  dy/dL %.1e  dy/dtheta0 %.1e  dy/du0 %.1e\n", row.rtol, name.c_str(), m.steps,
                   m.err[1], m.err[2], m.err[3]);
       for (std::size_t i = 1; i < m.err.size(); ++i)
         EXPECT_LT(m.err[i], row.limit) << kNames[i] << " " << name << " rtol " << row.rtol;

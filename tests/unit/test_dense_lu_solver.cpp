@@ -2,7 +2,7 @@
 // as CVODES makes them: its solves agree with Eigen's full-pivoting LU on random matrices and on
 // ones whose diagonal vanishes (pivoting needed), in place and not; a zero or non-finite pivot
 // (or one whose reciprocal overflows) is a recoverable SUNLS_LUFACT_FAIL; a matrix of another
-// size is refused.
+// size is refused; a stacked vector of several blocks of n is solved block by block.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -114,6 +114,36 @@ TEST(DenseLuSolver, ReportsAZeroOrNonFinitePivotAndAWrongSize) {
   long lenrw = 0, leniw = 0;
   EXPECT_EQ(SUNLinSolSpace(s.ls.get(), &lenrw, &leniw), SUNLS_SUCCESS);
   EXPECT_EQ(lenrw, 9);
+}
+
+// A state stacked with its sensitivities, [y; s_0; …]: each block of n solved with the one
+// factorisation, as one solve of it would be; a length that is no multiple of n is refused.
+TEST(DenseLuSolver, SolvesEveryBlockOfAStackedVector) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n : {1, 5, 10, 17}) {
+    SCOPED_TRACE(n);
+    Solver s(n);
+    Eigen::MatrixXd M(n, n);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) M(i, j) = u(rng);
+    M = Eigen::MatrixXd::Identity(n, n) - 0.1 * M;
+    ASSERT_EQ(s.setup(M), SUNLS_SUCCESS);
+    const int blocks = 7;
+    NVectorPtr b = make_serial_vector(n * blocks, s.ctx.get()), x = make_serial_vector(n * blocks, s.ctx.get());
+    Eigen::Map<Eigen::VectorXd> bd(N_VGetArrayPointer(b.get()), n * blocks), xd(N_VGetArrayPointer(x.get()), n * blocks);
+    for (int i = 0; i < n * blocks; ++i) bd[i] = u(rng);
+    const Eigen::VectorXd rhs = bd;
+    ASSERT_EQ(SUNLinSolSolve(s.ls.get(), s.A.get(), x.get(), b.get(), 0.0), SUNLS_SUCCESS);
+    for (int k = 0; k < blocks; ++k)
+      EXPECT_EQ(Eigen::VectorXd(xd.segment(k * n, n)), s.solve(rhs.segment(k * n, n))) << "block " << k;
+    ASSERT_EQ(SUNLinSolSolve(s.ls.get(), s.A.get(), b.get(), b.get(), 0.0), SUNLS_SUCCESS);  // in place
+    EXPECT_EQ(Eigen::VectorXd(bd), Eigen::VectorXd(xd));
+  }
+  Solver s(3);
+  ASSERT_EQ(s.setup(Eigen::Matrix3d::Identity()), SUNLS_SUCCESS);
+  NVectorPtr odd = make_serial_vector(7, s.ctx.get());
+  EXPECT_EQ(SUNLinSolSolve(s.ls.get(), s.A.get(), odd.get(), odd.get(), 0.0), SUNLS_ILL_INPUT);
 }
 
 }  // namespace

@@ -10,9 +10,11 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "closed_forms.hpp"
@@ -276,7 +278,8 @@ TEST_P(OscillatorSensitivities, MatchAnalyticReference) {
 
 INSTANTIATE_TEST_SUITE_P(
     AllMethods, OscillatorSensitivities,
-    ::testing::Values(SensCase{ks::SensitivityMethod::simultaneous, ks::SensitivityRhs::exact},
+    ::testing::Values(SensCase{ks::SensitivityMethod::stacked, ks::SensitivityRhs::exact},
+                      SensCase{ks::SensitivityMethod::simultaneous, ks::SensitivityRhs::exact},
                       SensCase{ks::SensitivityMethod::staggered, ks::SensitivityRhs::exact},
                       SensCase{ks::SensitivityMethod::staggered1, ks::SensitivityRhs::exact},
                       SensCase{ks::SensitivityMethod::simultaneous, ks::SensitivityRhs::dq},
@@ -302,7 +305,8 @@ TEST(Integrator, ErrorShrinksWithTolerance) {
     const Trajectory tr = run(o, osc, reference_times(ref));
     ASSERT_TRUE(tr.result.ok()) << tr.result.message;
     const double err = max_rel_error(tr, ref);
-    std::printf("[ measure  ] staggered/exact rtol %.0e: max rel error %.3e\n", rtol, err);
+    std::printf("[ measure  ] auto (%s)/exact rtol %.0e: max rel error %.3e\n",
+                std::string(ks::to_string(tr.result.sensitivity_method)).c_str(), rtol, err);
     EXPECT_LT(err, previous);
     EXPECT_LT(err, 1000 * rtol);
     previous = err;
@@ -320,6 +324,54 @@ TEST(Integrator, SensitivitySSTolerances) {
 }
 
 // ---------- 5. variants agree ----------
+
+// The stacked system against CVODES's simultaneous corrector and the closed form: BDF, Adams–Newton
+// and Adams with fixed-point iteration, with and without the sensitivities in the error test
+// (without: the stacked norm is the state's alone, so the steps are about the plain solve's).
+TEST(Integrator, StackedAgreesWithTheModule) {
+  const auto ref = closed_form_reference();
+  const auto times = reference_times(ref);
+  struct Case {
+    ks::Method method;
+    ks::Iteration iteration;
+  };
+  for (const Case c : {Case{ks::Method::bdf, ks::Iteration::newton}, Case{ks::Method::adams, ks::Iteration::newton},
+                       Case{ks::Method::adams, ks::Iteration::functional}})
+    for (const bool error_control : {true, false}) {
+      ks::SolverOptions o = tight();
+      o.method = c.method;
+      o.iteration = c.iteration;
+      o.sens_error_control = error_control;
+      Oscillator a, b, plain;
+      plain.with_sens = false;
+      o.sensitivity_method = ks::SensitivityMethod::stacked;
+      const Trajectory stacked = run(o, a, times);
+      o.sensitivity_method = ks::SensitivityMethod::simultaneous;
+      const Trajectory module = run(o, b, times);
+      const Trajectory state_only = run(o, plain, times);
+      ASSERT_TRUE(stacked.result.ok() && module.result.ok() && state_only.result.ok()) << stacked.result.message;
+      EXPECT_EQ(stacked.result.sensitivity_method, ks::SensitivityMethod::stacked);
+      const double e_stacked = max_rel_error(stacked, ref), e_module = max_rel_error(module, ref);
+      std::printf("[ measure  ] %s/%s, error control %d: max rel error stacked %.3e (%ld steps), module %.3e (%ld), "
+                  "plain solve %ld steps\n",
+                  std::string(ks::to_string(c.method)).c_str(), std::string(ks::to_string(c.iteration)).c_str(),
+                  error_control, e_stacked, stacked.result.stats.steps, e_module, module.result.stats.steps,
+                  state_only.result.stats.steps);
+      EXPECT_LT(e_stacked, error_control ? 3e-8 : 3e-7);
+      // With the sensitivities in the error test both take the same steps (the same test); without,
+      // neither controls the sensitivities' error, and the stacked system steps as the plain solve.
+      if (error_control) {
+        EXPECT_LT(e_stacked, 1.01 * e_module);
+      }
+      EXPECT_EQ(stacked.result.stats.sens_rhs_evals, stacked.result.stats.rhs_evals);
+      if (!error_control) {
+        EXPECT_NEAR(stacked.result.stats.steps, state_only.result.stats.steps, 5);
+      }
+      if (c.iteration == ks::Iteration::functional) {
+        EXPECT_EQ(stacked.result.stats.jac_evals, 0);
+      }
+    }
+}
 
 TEST(Integrator, AdamsAndBdfAgree) {
   const auto ref = closed_form_reference();
@@ -455,22 +507,46 @@ TEST(Integrator, AutoLinearSolverBySizeAndStiffness) {
   EXPECT_EQ(ks::integrate(slow, o, times, noop).linear_solver, ks::LinearSolver::automatic);  // no Newton
 }
 
-// sensitivity.method auto: staggered with projection, simultaneous otherwise; explicit choices kept.
-TEST(Integrator, AutoSensitivityMethodByProjection) {
+// sensitivity.method auto: stacked where the problem allows it, else staggered with projection and
+// simultaneous without; explicit choices kept.
+TEST(Integrator, AutoSensitivityMethod) {
   using SM = ks::SensitivityMethod;
-  EXPECT_EQ(ks::resolve_sensitivity_method(SM::automatic, true), SM::staggered);
-  EXPECT_EQ(ks::resolve_sensitivity_method(SM::automatic, false), SM::simultaneous);
-  for (const SM m : {SM::simultaneous, SM::staggered, SM::staggered1})
-    for (const bool projection : {false, true}) EXPECT_EQ(ks::resolve_sensitivity_method(m, projection), m);
+  for (const bool projection : {false, true})
+    EXPECT_EQ(ks::resolve_sensitivity_method(SM::automatic, projection, true), SM::stacked);
+  EXPECT_EQ(ks::resolve_sensitivity_method(SM::automatic, true, false), SM::staggered);
+  EXPECT_EQ(ks::resolve_sensitivity_method(SM::automatic, false, false), SM::simultaneous);
+  for (const SM m : {SM::simultaneous, SM::staggered, SM::staggered1, SM::stacked})
+    for (const bool projection : {false, true})
+      for (const bool stackable : {false, true})
+        EXPECT_EQ(ks::resolve_sensitivity_method(m, projection, stackable), m);
   EXPECT_EQ(ks::SolverOptions{}.sensitivity_method, SM::automatic);
 
   const std::vector<double> times{0, 0.5, 1};
   auto noop = [](int, double, const double*, const double* const*) {};
   ks::SolverOptions o;
   Oscillator a(1, 0, 1, 0.4, 4);
-  EXPECT_EQ(ks::integrate(a, o, times, noop).sensitivity_method, SM::simultaneous);
+  EXPECT_EQ(ks::integrate(a, o, times, noop).sensitivity_method, SM::stacked);
   o.sensitivity_method = SM::staggered1;
   EXPECT_EQ(ks::integrate(a, o, times, noop).sensitivity_method, SM::staggered1);
+  // What stacking needs and this configuration lacks: auto takes the module, an explicit choice is an error.
+  for (const auto& [what, configure] :
+       std::vector<std::pair<std::string, std::function<void(ks::SolverOptions&)>>>{
+           {"exact Jacobian", [](ks::SolverOptions& p) { p.jacobian = ks::JacobianKind::dq; }},
+           {"exact sensitivity", [](ks::SolverOptions& p) { p.sens_rhs = ks::SensitivityRhs::dq; }},
+           {"linear_solver dense", [](ks::SolverOptions& p) { p.linear_solver = ks::LinearSolver::krylov; }}}) {
+    ks::SolverOptions lacking;
+    configure(lacking);
+    EXPECT_EQ(ks::integrate(a, lacking, times, noop).sensitivity_method, SM::simultaneous) << what;
+    lacking.sensitivity_method = SM::stacked;
+    try {
+      ks::integrate(a, lacking, times, noop);
+      ADD_FAILURE() << "stacked without the " << what << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("solver.sensitivity.method = stacked"), std::string::npos) << message;
+      EXPECT_NE(message.find(what), std::string::npos) << message;
+    }
+  }
 }
 
 // ---------- 2, 3, 4. failures are statuses ----------
@@ -570,10 +646,16 @@ TEST(IntegratorFailure, ThrowingRhsIsAStatusWithTheMessage) {
 }
 
 TEST(IntegratorFailure, ThrowingSensitivityRhs) {
-  Faulty f(Faulty::Fault::throw_sens_rhs_after_t1);
-  const Trajectory tr = run_showing_message(tight(), f);
-  EXPECT_EQ(tr.result.status, CV_SRHSFUNC_FAIL);
-  EXPECT_TRUE(contains(tr.result.message, "dual number overflow")) << tr.result.message;
+  // CVODES's sensitivity module calls the sensitivity RHS on its own; stacked, it is part of the RHS.
+  for (const auto& [method, status] : {std::pair{ks::SensitivityMethod::simultaneous, CV_SRHSFUNC_FAIL},
+                                       std::pair{ks::SensitivityMethod::stacked, CV_RHSFUNC_FAIL}}) {
+    Faulty f(Faulty::Fault::throw_sens_rhs_after_t1);
+    ks::SolverOptions o = tight();
+    o.sensitivity_method = method;
+    const Trajectory tr = run_showing_message(o, f);
+    EXPECT_EQ(tr.result.status, status);
+    EXPECT_TRUE(contains(tr.result.message, "dual number overflow")) << tr.result.message;
+  }
 }
 
 TEST(IntegratorFailure, ThrowingJacobianNonStdException) {
@@ -731,8 +813,9 @@ TEST(IntegratorFailure, DqParametersRestoredAfterFailure) {
 TEST(Integrator, ReuseEqualsFreshBitForBit) {
   const std::vector<double> times{0, 0.5, 1, 2, 5, 10};
   for (auto method : {ks::SensitivityMethod::simultaneous, ks::SensitivityMethod::staggered,
-                      ks::SensitivityMethod::staggered1}) {
+                      ks::SensitivityMethod::staggered1, ks::SensitivityMethod::stacked}) {
     for (auto rhs : {ks::SensitivityRhs::exact, ks::SensitivityRhs::dq}) {
+      if (method == ks::SensitivityMethod::stacked && rhs == ks::SensitivityRhs::dq) continue;  // not offered
       ks::SolverOptions o = tight();
       o.sensitivity_method = method;
       o.sens_rhs = rhs;

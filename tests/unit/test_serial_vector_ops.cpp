@@ -250,4 +250,48 @@ TEST(SerialVectorOps, ClonesInheritThemAndOthersAreRefused) {
   EXPECT_THROW(use_compiled_serial_ops(nullptr), std::invalid_argument);
 }
 
+// The error norm of a state stacked with its sensitivities: the largest block's WRMS norm (as
+// SUNDIALS's N_VWrmsNorm of each block alone computes it, to the bit), or the first block's;
+// a NaN in any block counted; sizes it cannot take refused, with nothing changed.
+TEST(SerialVectorOps, BlockErrorNorms) {
+  ContextPtr ctx = make_context();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-2, 2), w(0.5, 1e4);
+  for (int n : {1, 2, 7, 10, 16, 33, kMaxErrorNormBlock}) {
+    SCOPED_TRACE(n);
+    const int blocks = 5;
+    NVectorPtr x = make_serial_vector(n * blocks, ctx.get()), wt = make_serial_vector(n * blocks, ctx.get());
+    N_Vector xb = N_VNew_Serial(n, ctx.get()), wb = N_VNew_Serial(n, ctx.get());  // SUNDIALS's own
+    for (int trial = 0; trial < 10; ++trial) {
+      double* xd = N_VGetArrayPointer(x.get());
+      double* wd = N_VGetArrayPointer(wt.get());
+      for (int i = 0; i < n * blocks; ++i) xd[i] = u(rng), wd[i] = w(rng);
+      double largest = 0;
+      std::vector<double> norms;
+      for (int k = 0; k < blocks; ++k) {
+        std::copy(xd + k * n, xd + (k + 1) * n, N_VGetArrayPointer(xb));
+        std::copy(wd + k * n, wd + (k + 1) * n, N_VGetArrayPointer(wb));
+        norms.push_back(N_VWrmsNorm_Serial(xb, wb));
+        largest = std::max(largest, norms.back());
+      }
+      ASSERT_TRUE(use_block_error_norm(x.get(), n, true));
+      EXPECT_EQ(N_VWrmsNorm(x.get(), wt.get()), largest);
+      NVectorArray clone(1, x.get());
+      EXPECT_EQ(clone[0]->ops->nvwrmsnorm, x->ops->nvwrmsnorm) << "clones inherit it";
+      ASSERT_TRUE(use_block_error_norm(x.get(), n, false));
+      EXPECT_EQ(N_VWrmsNorm(x.get(), wt.get()), norms[0]);
+      ASSERT_TRUE(use_block_error_norm(x.get(), n, true));
+      xd[n * blocks - 1] = std::nan("");
+      EXPECT_TRUE(std::isnan(N_VWrmsNorm(x.get(), wt.get())));
+    }
+    N_VDestroy(xb);
+    N_VDestroy(wb);
+  }
+  NVectorPtr v = make_serial_vector(12, ctx.get());
+  const auto before = v->ops->nvwrmsnorm;
+  for (int block : {0, -1, 5, 24, kMaxErrorNormBlock + 1}) EXPECT_FALSE(use_block_error_norm(v.get(), block, true)) << block;
+  EXPECT_FALSE(use_block_error_norm(nullptr, 3, true));
+  EXPECT_EQ(v->ops->nvwrmsnorm, before);
+}
+
 }  // namespace

@@ -21,6 +21,22 @@ int rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) no
   });
 }
 
+int stacked_rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept {
+  CallbackData& cb = data_of(user_data);
+  return guarded(cb, "rhs", t, true, [&] {
+    const double* yd = N_VGetArrayPointer(y);
+    double* f = N_VGetArrayPointer(ydot);
+    const int ns = cb.stacked_ns;
+    for (int i = 0; i < ns; ++i) {
+      const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(cb.n) * (i + 1);
+      cb.s_in[static_cast<std::size_t>(i)] = yd + offset;
+      cb.s_out[static_cast<std::size_t>(i)] = f + offset;
+    }
+    cb.problem->rhs_with_sensitivities(t, yd, ns, cb.s_in.data(), f, cb.s_out.data());
+    return cb.check_finite("rhs", t, f, static_cast<long>(cb.n) * (ns + 1));
+  });
+}
+
 int root_trampoline(sunrealtype t, N_Vector y, sunrealtype* gout, void* user_data) noexcept {
   CallbackData& cb = data_of(user_data);
   return guarded(cb, "event function", t, false, [&] {
@@ -129,27 +145,41 @@ int keep_sensitivity_error(CallbackData& cb, double t, N_Vector err) {
   return 0;
 }
 
+// OdeProblem::project on the state (the first n entries of ycur, corr and err): its flag, else
+// whether the correction is finite.
+int project_state(CallbackData& cb, double t, N_Vector ycur, double* c, double eps_proj, N_Vector err) {
+  const int flag =
+      cb.problem->project(t, N_VGetArrayPointer(ycur), c, eps_proj, err != nullptr ? N_VGetArrayPointer(err) : nullptr);
+  if (flag != 0) {
+    try {
+      cb.callback_message = "project returned " + std::to_string(flag) + " at t = " + format_time(t);
+    } catch (...) {
+    }
+    if (flag > 0) ++cb.recoverable;
+    return flag;
+  }
+  return cb.check_finite("project", t, c, cb.n);
+}
+
 }  // namespace
 
 int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
                     void* user_data) noexcept {
   CallbackData& cb = data_of(user_data);
   return guarded(cb, "project", t, false, [&] {
-    double* c = N_VGetArrayPointer(corr);
-    const int flag = cb.problem->project(t, N_VGetArrayPointer(ycur), c, eps_proj,
-                                         err != nullptr ? N_VGetArrayPointer(err) : nullptr);
-    if (flag != 0) {
-      try {
-        cb.callback_message =
-            "project returned " + std::to_string(flag) + " at t = " + format_time(t);
-      } catch (...) {
-      }
-      if (flag > 0) ++cb.recoverable;
-      return flag;
-    }
-    const int finite = cb.check_finite("project", t, c, cb.n);
-    if (finite != 0 || err == nullptr || cb.sens_error_mem == nullptr) return finite;
+    const int flag = project_state(cb, t, ycur, N_VGetArrayPointer(corr), eps_proj, err);
+    if (flag != 0 || err == nullptr || cb.sens_error_mem == nullptr) return flag;
     return keep_sensitivity_error(cb, t, err);
+  });
+}
+
+int stacked_proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
+                            void* user_data) noexcept {
+  CallbackData& cb = data_of(user_data);
+  return guarded(cb, "project", t, false, [&] {
+    double* c = N_VGetArrayPointer(corr);
+    std::fill(c + cb.n, c + static_cast<std::ptrdiff_t>(cb.n) * (cb.stacked_ns + 1), 0.0);
+    return project_state(cb, t, ycur, c, eps_proj, err);
   });
 }
 

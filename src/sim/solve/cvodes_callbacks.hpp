@@ -42,6 +42,9 @@ struct CallbackData {
   N_Vector state_weights = nullptr;
   N_Vector* sens_weights = nullptr;
   int ns = 0;
+  // Sensitivities stacked after the state in one CVODES vector (stacked_rhs_trampoline): how
+  // many; 0 when CVODES's sensitivity module carries them.
+  int stacked_ns = 0;
 
   void reset(OdeProblem* p, int size) {
     problem = p;
@@ -129,6 +132,9 @@ int sens_rhs_trampoline(int ns, sunrealtype t, N_Vector y, N_Vector ydot, int iS
 // multi-tangent pass.
 int sens_rhs_all_trampoline(int ns, sunrealtype t, N_Vector y, N_Vector ydot, N_Vector* yS, N_Vector* ySdot,
                             void* user_data, N_Vector, N_Vector) noexcept;
+// The right-hand side of the state stacked with its stacked_ns sensitivities, [y; s_0; …] (n
+// each): f and every sensitivity right-hand side in one pass (OdeProblem::rhs_with_sensitivities).
+int stacked_rhs_trampoline(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) noexcept;
 // CVodeRootInit's g: OdeEvents::g (an exception: −1, CVODES stops with CV_RTFUNC_FAIL).
 int root_trampoline(sunrealtype t, N_Vector y, sunrealtype* gout, void* user_data) noexcept;
 // CVodeSetProjFn's projection: OdeProblem::project; with sens_error_mem set, also scales the
@@ -136,6 +142,11 @@ int root_trampoline(sunrealtype t, N_Vector y, sunrealtype* gout, void* user_dat
 // keep_sensitivity_error in the .cpp).
 int proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
                     void* user_data) noexcept;
+// The projection of a stacked system (stacked_rhs_trampoline): OdeProblem::project corrects the
+// state block and its part of the error estimate; the sensitivities are left as they are (zero
+// correction), so their error estimates stay in the error test.
+int stacked_proj_trampoline(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj, N_Vector err,
+                            void* user_data) noexcept;
 // CVODES reports errors through this instead of printing them to stderr (thousands of failing
 // samples would flood the terminal). Warnings (error_code > 0, e.g. "t + h = t") are dropped.
 void error_handler(int error_code, const char* module, const char* function, char* msg, void* user_data) noexcept;

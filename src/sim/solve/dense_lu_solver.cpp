@@ -110,7 +110,13 @@ int solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype) {
   double* xd = N_VGetArrayPointer(x);
   const double* bd = N_VGetArrayPointer(b);
   if (xd == nullptr || bd == nullptr) return static_cast<int>(c.last_flag = SUNLS_MEM_FAIL);
-  solve_dispatch(c, bd, xd, std::make_integer_sequence<int, 16>{});
+  // A vector of several blocks of n (a state stacked with its sensitivities) is solved block
+  // by block with the one factorisation: the block-diagonal Newton matrix of CVODES's
+  // simultaneous corrector.
+  const sunindextype length = N_VGetLength(b);
+  if (length % c.n != 0 || N_VGetLength(x) != length) return static_cast<int>(c.last_flag = SUNLS_ILL_INPUT);
+  for (sunindextype k = 0; k < length; k += c.n)
+    solve_dispatch(c, bd + k, xd + k, std::make_integer_sequence<int, 16>{});
   return static_cast<int>(c.last_flag = SUNLS_SUCCESS);
 }
 

@@ -24,6 +24,7 @@
 #include "sim/solve/cvodes_callbacks.hpp"
 #include "sim/solve/cvodes_quadrature.hpp"
 #include "sim/solve/integrator_impl.hpp"
+#include "sim/solve/serial_vector_ops.hpp"
 #include "sim/solve/sundials_handles.hpp"
 
 namespace kanesens::sim {
@@ -36,8 +37,9 @@ int detail::sensitivity_method_flag(SensitivityMethod m) {
       return CV_STAGGERED;
     case SensitivityMethod::staggered1:
       return CV_STAGGERED1;
+    case SensitivityMethod::stacked:
     case SensitivityMethod::automatic:
-      break;  // resolved before CVODES sees it
+      break;  // not CVODES's (stacked), or resolved before CVODES sees it
   }
   return CV_STAGGERED;
 }
@@ -103,12 +105,38 @@ void Integrator::Impl::check_problem(OdeProblem& problem, std::span<const double
   }
 }
 
-void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int n_quad, double t0) {
+// Why this problem's sensitivities cannot ride in the state's vector (nullptr: they can).
+// Stacked, CVODES sees one system [y; s_0; …] and solves Newton's block-diagonal system with the
+// state's factorisation, so it needs the dense solver and an exact n×n Jacobian (a difference
+// quotient or J v would take the stacked system's); the quadratures' sensitivities and the
+// re-partitioning restarts are CVODES's sensitivity module's.
+const char* Integrator::Impl::stacking_obstacle(OdeProblem& problem, int n_quad, LinearSolver solver) const {
+  const SolverOptions& o = options;
+  if (o.iteration == Iteration::newton) {
+    if (solver != LinearSolver::dense) return "it needs linear_solver dense";
+    if (o.jacobian != JacobianKind::exact || !problem.has_jacobian()) return "it needs the exact Jacobian";
+  }
+  if (o.sens_rhs != SensitivityRhs::exact || !problem.has_sensitivity_rhs())
+    return "it needs the exact sensitivity right-hand side (sensitivity.rhs: exact)";
+  if (n_quad > 0) return "integral outputs (quadratures) need CVODES's sensitivity module";
+  if (problem.has_step_check()) return "the embedding's re-partitioning restarts need CVODES's sensitivity module";
+  if (problem.size() > kMaxErrorNormBlock) return "it takes at most 64 states";
+  return nullptr;
+}
+
+void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int n_quad, double t0, bool stack) {
   release();
   const SolverOptions& o = options;
   ctx = make_context();
-  y = make_serial_vector(n_states, ctx.get());
+  y = make_serial_vector(stack ? n_states * (1 + n_sens) : n_states, ctx.get());
   N_VConst(0.0, y.get());
+  if (stack) {
+    // The local error test and Newton's convergence test of the simultaneous corrector: the
+    // largest of the blocks' norms with sensitivity error control, the state's alone without.
+    if (!use_block_error_norm(y.get(), n_states, o.sens_error_control))
+      throw std::logic_error("build: no stacked error norm for " + std::to_string(n_states) + " states");
+    atol_vector = make_serial_vector(n_states * (1 + n_sens), ctx.get());
+  }
   // y's operations are the compiled ones, fused and vector-array operations included
   // (make_serial_vector, sim/solve/serial_vector_ops.hpp): CVODES updates the Ns sensitivity
   // vectors with one call per operation instead of one per vector, and the clones below and
@@ -116,12 +144,12 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
 
   // create → init
   mem = make_cvode(o.method == Method::bdf ? CV_BDF : CV_ADAMS, ctx.get());
-  check_flag(CVodeInit(mem.get(), rhs_trampoline, t0, y.get()), "CVodeInit");
+  check_flag(CVodeInit(mem.get(), stack ? stacked_rhs_trampoline : rhs_trampoline, t0, y.get()), "CVodeInit");
   check_flag(CVodeSetUserData(mem.get(), &cb), "CVodeSetUserData");
   check_flag(CVodeSetErrHandlerFn(mem.get(), error_handler, &cb), "CVodeSetErrHandlerFn");
 
-  // → tolerances
-  if (o.atol_per_state.empty()) {
+  // → tolerances (stacked: per problem, in reinit)
+  if (stack || o.atol_per_state.empty()) {
     check_flag(CVodeSStolerances(mem.get(), o.rtol, o.atol), "CVodeSStolerances");
   } else {
     atol_vector = make_serial_vector(n_states, ctx.get());
@@ -166,14 +194,19 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
   // forward sensitivities is not documented by CVODES 6.4 and is tested with the constrained
   // models (docs/solve.md; the simultaneous corrector's error test: below).
   if (with_projection) {
-    check_flag(CVodeSetProjFn(mem.get(), proj_trampoline), "CVodeSetProjFn");
+    check_flag(CVodeSetProjFn(mem.get(), stack ? stacked_proj_trampoline : proj_trampoline), "CVodeSetProjFn");
     check_flag(CVodeSetProjErrEst(mem.get(), o.projection_error_estimate ? SUNTRUE : SUNFALSE),
                "CVodeSetProjErrEst");
     check_flag(CVodeSetProjFrequency(mem.get(), o.projection_frequency), "CVodeSetProjFrequency");
   }
 
+  cb.stacked_ns = stack ? n_sens : 0;
+  if (stack) {
+    cb.s_in.assign(static_cast<std::size_t>(n_sens), nullptr);
+    cb.s_out.assign(static_cast<std::size_t>(n_sens), nullptr);
+  }
   // → SensInit1 → sensitivity tolerances → SetSensParams (in reinit: per problem) → SensErrCon
-  if (n_sens > 0) {
+  if (n_sens > 0 && !stack) {
     yS = NVectorArray(n_sens, y.get());
     for (int i = 0; i < n_sens; ++i) N_VConst(0.0, yS[i]);
     // Exact right-hand sides all at once (one multi-tangent pass), except for staggered1, which
@@ -232,8 +265,9 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
           check_flag(CVodeSetNonlinearSolverSensStg1(mem.get(), NLS_sens.get()),
                      "CVodeSetNonlinearSolverSensStg1");
           break;
+        case SensitivityMethod::stacked:
         case SensitivityMethod::automatic:
-          break;  // resolved in integrate()
+          break;  // not here (stacked), or resolved in integrate()
       }
     }
   }
@@ -243,11 +277,15 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
 
   y_out = make_serial_vector(n_states, ctx.get());
   N_VConst(0.0, y_out.get());
-  if (n_sens > 0) yS_out = NVectorArray(n_sens, y.get());
+  if (n_sens > 0 && !stack) yS_out = NVectorArray(n_sens, y.get());
   s_pointers.assign(static_cast<std::size_t>(n_sens), nullptr);
   s_out_pointers.assign(static_cast<std::size_t>(n_sens), nullptr);
   s_step_pointers.assign(static_cast<std::size_t>(n_sens), nullptr);
   for (int i = 0; i < n_sens; ++i) {
+    if (stack) {  // sensitivity i is block i + 1 of y
+      s_pointers[static_cast<std::size_t>(i)] = N_VGetArrayPointer(y.get()) + static_cast<std::ptrdiff_t>(n_states) * (i + 1);
+      continue;
+    }
     s_pointers[static_cast<std::size_t>(i)] = yS.data(i);
     s_out_pointers[static_cast<std::size_t>(i)] = yS_out.data(i);
     s_step_pointers[static_cast<std::size_t>(i)] = yS.data(i);
@@ -256,6 +294,7 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
   ns = n_sens;
   nquad = n_quad;
   projection = with_projection;
+  stacked = stack;
   built = true;
 }
 
@@ -265,10 +304,25 @@ void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, OdeEvent
   cb.quadrature = quad;
   cb.nquad = nquad;
   problem.initial_state(N_VGetArrayPointer(y.get()));
+  if (stacked) {  // the sensitivities' initial values and tolerances, block by block
+    double* yd = N_VGetArrayPointer(y.get());
+    double* atol = N_VGetArrayPointer(atol_vector.get());
+    const std::vector<double>& state_atol = options.atol_per_state;
+    for (int k = 0; k < n; ++k) atol[k] = state_atol.empty() ? options.atol : state_atol[static_cast<std::size_t>(k)];
+    pbar = problem.sensitivity_scales();
+    for (int i = 0; i < ns; ++i) {
+      const std::ptrdiff_t block = static_cast<std::ptrdiff_t>(n) * (i + 1);
+      problem.initial_sensitivity(i, yd + block);
+      // The module's sensitivity tolerances: sensitivity.atol, or atol / |p̄_i| (CVodeSensEEtolerances).
+      const double scale = pbar.empty() ? 1.0 : std::abs(pbar[static_cast<std::size_t>(i)]);
+      for (int k = 0; k < n; ++k) atol[block + k] = options.sens_atol ? *options.sens_atol : atol[k] / scale;
+    }
+    check_flag(CVodeSVtolerances(mem.get(), options.rtol, atol_vector.get()), "CVodeSVtolerances");
+  }
   check_flag(CVodeReInit(mem.get(), t0, y.get()), "CVodeReInit");
   dq_p = nullptr;
   dq_p_saved.clear();
-  if (ns > 0) {
+  if (ns > 0 && !stacked) {
     for (int i = 0; i < ns; ++i) problem.initial_sensitivity(i, yS.data(i));
     check_flag(
         CVodeSensReInit(mem.get(), sensitivity_method_flag(sensitivity_method), yS.get()),
@@ -320,7 +374,9 @@ SolverStats Integrator::Impl::collect_stats() const {
     check_ls_flag(CVodeGetNumLinIters(m, &s.lin_iters), "CVodeGetNumLinIters");
     check_ls_flag(CVodeGetNumLinConvFails(m, &s.lin_conv_fails), "CVodeGetNumLinConvFails");
   }
-  if (ns > 0) {
+  if (stacked) {
+    s.sens_rhs_evals = s.rhs_evals;
+  } else if (ns > 0) {
     long setups = 0;
     check_flag(CVodeGetSensStats(m, &s.sens_rhs_evals, &s.rhs_evals_for_sens,
                                  &s.sens_error_test_fails, &setups),
@@ -360,13 +416,17 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
   const bool with_projection = problem.has_projection();
   const int n_quad = quad ? quad->size() : 0;
   const LinearSolver linear_solver = im.choose_linear_solver(problem, times.front());
+  const char* stacking_obstacle = n_sens > 0 ? im.stacking_obstacle(problem, n_quad, linear_solver) : "";
   const SensitivityMethod sensitivity_method =
-      resolve_sensitivity_method(im.options.sensitivity_method, with_projection);
+      resolve_sensitivity_method(im.options.sensitivity_method, with_projection, stacking_obstacle == nullptr);
+  if (n_sens > 0 && sensitivity_method == SensitivityMethod::stacked && stacking_obstacle != nullptr)
+    invalid(std::string("solver.sensitivity.method = stacked: ") + stacking_obstacle + " (use auto)");
+  const bool stack = n_sens > 0 && sensitivity_method == SensitivityMethod::stacked;
   if (!im.built || im.n != n_states || im.ns != n_sens || im.projection != with_projection || im.nquad != n_quad ||
-      im.linear_solver != linear_solver || im.sensitivity_method != sensitivity_method) {
+      im.linear_solver != linear_solver || im.sensitivity_method != sensitivity_method || im.stacked != stack) {
     im.linear_solver = linear_solver;
     im.sensitivity_method = sensitivity_method;
-    im.build(n_states, n_sens, with_projection, n_quad, times.front());
+    im.build(n_states, n_sens, with_projection, n_quad, times.front(), stack);
   }
   im.reinit(problem, quad, events, times.front(), times.back());
 
@@ -420,7 +480,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
     int flag = CVode(m, tout, im.y.get(), &t_reached, CV_NORMAL);
     bool stopped = false;
     while (flag == CV_ROOT_RETURN && !stopped) {
-      if (n_sens > 0) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
+      if (n_sens > 0 && !stack) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
       stopped = im.handle_roots(t_reached, y, s);
       // A zero exactly at tout: y is y(tout) already. CVode(tout) again would search up to tout
       // once more and find g(tout) = 0 again, for ever.
@@ -434,7 +494,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
       im.fail(result, flag, t_reached);
       break;
     }
-    if (n_sens > 0) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
+    if (n_sens > 0 && !stack) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
     record(static_cast<int>(k), tout, y, s);
     if (quad) im.quadrature.record(m, *quad, static_cast<int>(k), tout);
     ++result.outputs_recorded;

@@ -10,9 +10,12 @@
 // The first integrate() builds the CVODES objects (context, vectors, dense matrix and LU
 // solver or matrix-free GMRES, cvode_mem, sensitivity vectors) in the documented order (cvsRoberts_FSA_dns.c):
 // create → init → tolerances → linear solver → SensInit1 → sensitivity tolerances →
-// SetSensParams → SetSensErrCon. Later calls with a problem of the same shape (size,
-// number of sensitivities, projection or not) only re-initialise them (CVodeReInit,
-// CVodeSensReInit, CVodeSetSensParams); a different shape rebuilds them.
+// SetSensParams → SetSensErrCon. With stacked sensitivities (SensitivityMethod::stacked, auto's
+// choice where it applies) there is no sensitivity module: CVODES integrates [y; s_0; …] as one
+// system (docs/solve.md, "Stacked sensitivities"). Later calls with a problem of the same shape
+// (size, number of sensitivities, projection or not, corrector) only re-initialise them
+// (CVodeReInit, CVodeSensReInit, CVodeSetSensParams; stacked: the tolerances); a different shape
+// rebuilds them.
 //
 // Output: record(k, t, y, s) is called for k = 0..times.size()-1 with t = times[k], the state
 // y (n) and s[i] (n) = ∂y/∂p_i for i < ns (s == nullptr when ns = 0). Output 0 is the initial

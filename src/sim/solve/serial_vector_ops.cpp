@@ -7,7 +7,9 @@
 
 #include <nvector/nvector_serial.h>
 
+#include <array>
 #include <cmath>
+#include <utility>
 #include <stdexcept>
 
 namespace kanesens::sim {
@@ -274,7 +276,48 @@ int op_linear_combination_array(int k, int sums, Real* c, N_Vector** X, N_Vector
   return 0;
 }
 
+// The norms of a state stacked with its sensitivities (use_block_error_norm): the largest WRMS
+// norm of its blocks of Block entries, as CVODES's sensitivity module takes the largest of the
+// state's and the sensitivities' norms with sensitivity error control; the first block's alone
+// without it. The block size is a template argument so that the sums unroll as the plain norm's.
+template <int Block>
+Real op_wrms_norm_blocks(N_Vector x, N_Vector w) {
+  const Real *xd = data(x), *wd = data(w);
+  const Index n = length(x);
+  Real largest = 0;
+  for (Index b = 0; b + Block <= n; b += Block) {
+    const Real norm = std::sqrt(weighted_square_sum(xd + b, wd + b, Block) / static_cast<Real>(Block));
+    if (!(norm <= largest)) largest = norm;  // a NaN wins, as it would in one sum
+  }
+  return largest;
+}
+template <int Block>
+Real op_wrms_norm_first_block(N_Vector x, N_Vector w) {
+  return std::sqrt(weighted_square_sum(data(x), data(w), Block) / static_cast<Real>(Block));
+}
+
+using NormOp = Real (*)(N_Vector, N_Vector);
+template <int... B>
+constexpr std::array<NormOp, sizeof...(B)> block_norms(std::integer_sequence<int, B...>) {
+  return {&op_wrms_norm_blocks<B + 1>...};
+}
+template <int... B>
+constexpr std::array<NormOp, sizeof...(B)> first_block_norms(std::integer_sequence<int, B...>) {
+  return {&op_wrms_norm_first_block<B + 1>...};
+}
+constexpr auto kBlockNorms = block_norms(std::make_integer_sequence<int, kMaxErrorNormBlock>{});
+constexpr auto kFirstBlockNorms = first_block_norms(std::make_integer_sequence<int, kMaxErrorNormBlock>{});
+
 }  // namespace
+
+bool use_block_error_norm(N_Vector v, int block, bool every_block) {
+  if (v == nullptr || N_VGetVectorID(v) != SUNDIALS_NVEC_SERIAL || block < 1 || block > kMaxErrorNormBlock ||
+      length(v) % block != 0)
+    return false;
+  const auto index = static_cast<std::size_t>(block - 1);
+  v->ops->nvwrmsnorm = every_block ? kBlockNorms[index] : kFirstBlockNorms[index];
+  return true;
+}
 
 void use_compiled_serial_ops(N_Vector v) {
   if (v == nullptr || N_VGetVectorID(v) != SUNDIALS_NVEC_SERIAL)

@@ -19,4 +19,14 @@ namespace kanesens::sim {
 // std::invalid_argument unless v is a serial vector.
 void use_compiled_serial_ops(N_Vector v);
 
+// The largest block size use_block_error_norm takes.
+inline constexpr int kMaxErrorNormBlock = 64;
+
+// For a state stacked with its sensitivities in one serial vector v, [y; s_0; …] (blocks of
+// `block` entries): makes v's WRMS norm (and its later clones') the largest of its blocks' WRMS
+// norms (every_block), the norm CVODES's sensitivity module tests with sensitivity error control,
+// or the first block's alone, the one it tests without. False, with nothing changed, unless v is
+// serial, 1 ≤ block ≤ kMaxErrorNormBlock and block divides v's length.
+bool use_block_error_norm(N_Vector v, int block, bool every_block);
+
 }  // namespace kanesens::sim

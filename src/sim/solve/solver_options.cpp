@@ -66,8 +66,9 @@ LinearSolver resolve_linear_solver(LinearSolver option, int n, double jacobian_r
   if (option != LinearSolver::automatic) return option;
   return n >= kKrylovMinStates && jacobian_rate <= kKrylovMaxRate ? LinearSolver::krylov : LinearSolver::dense;
 }
-SensitivityMethod resolve_sensitivity_method(SensitivityMethod option, bool with_projection) {
+SensitivityMethod resolve_sensitivity_method(SensitivityMethod option, bool with_projection, bool stackable) {
   if (option != SensitivityMethod::automatic) return option;
+  if (stackable) return SensitivityMethod::stacked;
   return with_projection ? SensitivityMethod::staggered : SensitivityMethod::simultaneous;
 }
 

@@ -19,9 +19,11 @@ enum class JacobianKind { exact, dq };        // OdeProblem::jacobian | CVODES d
 // CVODES's difference quotient with jacobian = dq), or chosen by the problem's size
 // (resolve_linear_solver).
 enum class LinearSolver { dense, krylov, automatic };
-// CVODES's sensitivity corrector: CV_SIMULTANEOUS, CV_STAGGERED, CV_STAGGERED1, or chosen by the
-// problem (resolve_sensitivity_method).
-enum class SensitivityMethod { simultaneous, staggered, staggered1, automatic };
+// CVODES's sensitivity corrector: CV_SIMULTANEOUS, CV_STAGGERED, CV_STAGGERED1 (CVODES's
+// sensitivity module), stacked (the simultaneous corrector's iteration and error test with the
+// sensitivities stacked after the state in one CVODES vector), or chosen by the problem
+// (resolve_sensitivity_method).
+enum class SensitivityMethod { simultaneous, staggered, staggered1, stacked, automatic };
 enum class SensitivityRhs { exact, dq };  // OdeProblem::sensitivity_rhs | CVODES internal DQ
 
 struct SolverOptions {
@@ -71,6 +73,7 @@ inline constexpr EnumName<SensitivityMethod> kSensitivityMethodNames[] = {
     {"simultaneous", SensitivityMethod::simultaneous},
     {"staggered", SensitivityMethod::staggered},
     {"staggered1", SensitivityMethod::staggered1},
+    {"stacked", SensitivityMethod::stacked},
     {"auto", SensitivityMethod::automatic}};
 inline constexpr EnumName<SensitivityRhs> kSensitivityRhsNames[] = {
     {"exact", SensitivityRhs::exact}, {"dq", SensitivityRhs::dq}};
@@ -90,9 +93,10 @@ inline constexpr double kKrylovMaxRate = 1e3;
 // The linear solver a Newton integration of n states uses: the option itself unless automatic;
 // jacobian_rate: the estimated spectral radius of J (needed only when n >= kKrylovMinStates).
 LinearSolver resolve_linear_solver(LinearSolver option, int n, double jacobian_rate = 0);
-// automatic: staggered with projection (the two are as accurate and as fast there), simultaneous
-// otherwise (as fast or faster: docs/benchmarks.md); an explicit choice is kept.
-SensitivityMethod resolve_sensitivity_method(SensitivityMethod option, bool with_projection);
+// automatic: stacked where the problem allows it (`stackable`, Integrator: the fastest,
+// docs/benchmarks.md), else staggered with projection (the two module correctors are as accurate
+// and as fast there) and simultaneous without (as fast or faster); an explicit choice is kept.
+SensitivityMethod resolve_sensitivity_method(SensitivityMethod option, bool with_projection, bool stackable);
 std::string_view to_string(SensitivityMethod s);
 std::string_view to_string(SensitivityRhs s);
 
