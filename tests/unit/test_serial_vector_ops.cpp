@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <random>
@@ -244,6 +245,13 @@ TEST(SerialVectorOps, ClonesInheritThemAndOthersAreRefused) {
   for (int k = 0; k < 2; ++k) {
     EXPECT_EQ(clones[k]->ops->nvlinearsum, v->ops->nvlinearsum);
     EXPECT_EQ(clones[k]->ops->nvlinearsumvectorarray, v->ops->nvlinearsumvectorarray);
+  }
+  // Their data starts on a cache line, as the operations' 64-byte loads want (any length).
+  for (int n : {1, 4, 7, 70}) {
+    NVectorPtr u = make_serial_vector(n, ctx.get());
+    NVectorArray more(3, u.get());
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(N_VGetArrayPointer(u.get())) % 64, 0u) << n;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(reinterpret_cast<std::uintptr_t>(more.data(k)) % 64, 0u) << n;
   }
   EXPECT_NE(v->ops->nvlinearsum, &N_VLinearSum_Serial) << "the compiled operations are in place";
   EXPECT_NE(v->ops->nvlinearcombinationvectorarray, nullptr) << "vector-array operations enabled";

@@ -15,8 +15,8 @@
 namespace kanesens::sim {
 
 // Points every arithmetic operation of serial vector v at the compiled ones (and enables the
-// fused and vector-array operations). Clones made afterwards inherit them. Throws
-// std::invalid_argument unless v is a serial vector.
+// fused and vector-array operations). Clones made afterwards inherit them, and their data start
+// on a 64-byte boundary. Throws std::invalid_argument unless v is a serial vector.
 void use_compiled_serial_ops(N_Vector v);
 
 // The largest block size use_block_error_norm takes.

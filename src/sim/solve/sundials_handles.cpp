@@ -58,10 +58,13 @@ ContextPtr make_context() {
 }
 
 NVectorPtr make_serial_vector(int n, SUNContext ctx) {
-  N_Vector v = N_VNew_Serial(n, ctx);
-  check_ptr(v, "N_VNew_Serial");
-  NVectorPtr owned(v);
-  use_compiled_serial_ops(v);
+  // An empty vector given the compiled operations, then cloned: the clone has them and its data
+  // is aligned as theirs wants (use_compiled_serial_ops).
+  NVectorPtr empty(N_VNewEmpty_Serial(n, ctx));
+  check_ptr(empty.get(), "N_VNewEmpty_Serial");
+  use_compiled_serial_ops(empty.get());
+  NVectorPtr owned(N_VClone(empty.get()));
+  check_ptr(owned.get(), "N_VClone");
   return owned;
 }
 
