@@ -113,7 +113,7 @@ TEST(DenseLuSolver, ReportsAZeroOrNonFinitePivotAndAWrongSize) {
   EXPECT_EQ(SUNLinSolSetup(s.ls.get(), other.get()), SUNLS_ILL_INPUT);
   long lenrw = 0, leniw = 0;
   EXPECT_EQ(SUNLinSolSpace(s.ls.get(), &lenrw, &leniw), SUNLS_SUCCESS);
-  EXPECT_EQ(lenrw, 9);
+  EXPECT_EQ(lenrw, 18);  // the factors and the inverse for stacked right-hand sides
 }
 
 // A state stacked with its sensitivities, [y; s_0; …]: each block of n solved with the one
@@ -135,10 +135,19 @@ TEST(DenseLuSolver, SolvesEveryBlockOfAStackedVector) {
     for (int i = 0; i < n * blocks; ++i) bd[i] = u(rng);
     const Eigen::VectorXd rhs = bd;
     ASSERT_EQ(SUNLinSolSolve(s.ls.get(), s.A.get(), x.get(), b.get(), 0.0), SUNLS_SUCCESS);
-    for (int k = 0; k < blocks; ++k)
-      EXPECT_EQ(Eigen::VectorXd(xd.segment(k * n, n)), s.solve(rhs.segment(k * n, n))) << "block " << k;
+    const Eigen::FullPivLU<Eigen::MatrixXd> full(M);
+    for (int k = 0; k < blocks; ++k) {
+      const Eigen::VectorXd ref = full.solve(rhs.segment(k * n, n));
+      EXPECT_LE((xd.segment(k * n, n) - ref).norm(), 1e-14 / full.rcond() * ref.norm()) << "block " << k;
+    }
+    const Eigen::VectorXd first = xd;
     ASSERT_EQ(SUNLinSolSolve(s.ls.get(), s.A.get(), b.get(), b.get(), 0.0), SUNLS_SUCCESS);  // in place
-    EXPECT_EQ(Eigen::VectorXd(bd), Eigen::VectorXd(xd));
+    EXPECT_EQ(Eigen::VectorXd(bd), first);
+    // A new factorisation is used from the next solve on (the inverse is not stale).
+    ASSERT_EQ(s.setup(2 * M), SUNLS_SUCCESS);
+    bd = rhs;
+    ASSERT_EQ(SUNLinSolSolve(s.ls.get(), s.A.get(), x.get(), b.get(), 0.0), SUNLS_SUCCESS);
+    EXPECT_LE((xd - first / 2).norm(), 1e-13 / full.rcond() * first.norm());
   }
   Solver s(3);
   ASSERT_EQ(s.setup(Eigen::Matrix3d::Identity()), SUNLS_SUCCESS);

@@ -14,14 +14,20 @@ namespace {
 
 struct Content {
   explicit Content(sunindextype size)
-      : n(size), lu(size), inverse_pivots(size), source_rows(static_cast<std::size_t>(size)), scratch(size) {}
+      : n(size), lu(size), inverse_pivots(size), source_rows(static_cast<std::size_t>(size)), scratch(size),
+        inverse(size, size) {}
   sunindextype n;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;  // sized once: compute() and solves allocate nothing
   Eigen::VectorXd inverse_pivots;           // 1 / U(k, k)
   std::vector<int> source_rows;             // (P b)[k] = b[source_rows[k]]
   Eigen::VectorXd scratch;                  // b when the solve is in place (x = b)
+  Eigen::MatrixXd inverse;                  // (P⁻¹ L U)⁻¹ for stacked right-hand sides, formed on demand
+  bool inverse_current = false;
   sunindextype last_flag = SUNLS_SUCCESS;
 };
+
+// The sizes whose substitutions (and products with the inverse) are written out.
+constexpr int kSizedSolves = 16;
 
 Content& content(SUNLinearSolver S) { return *static_cast<Content*>(S->content); }
 
@@ -45,6 +51,7 @@ int setup(SUNLinearSolver S, SUNMatrix A) {
     // A pivot so small that its reciprocal overflows (subnormal) is singular in practice too.
     if (!std::isfinite(c.inverse_pivots[k])) return static_cast<int>(c.last_flag = SUNLS_LUFACT_FAIL);
   }
+  c.inverse_current = false;
   const auto& rows = c.lu.permutationP().indices();  // (P b)[rows[i]] = b[i]
   for (Eigen::Index i = 0; i < c.n; ++i) c.source_rows[static_cast<std::size_t>(rows[i])] = static_cast<int>(i);
   return static_cast<int>(c.last_flag = SUNLS_SUCCESS);
@@ -105,6 +112,32 @@ void solve_dispatch(Content& c, const double* b, double* x, std::integer_sequenc
   if (!((c.n == N + 1 && (solve_sized<N + 1>(c, b, x), true)) || ...)) solve_any(c, b, x);
 }
 
+// x = A⁻¹ b for each of `blocks` right-hand sides of N: products with the inverse formed once
+// from the factors, whose entries are independent (the substitutions are a chain of dependent
+// operations per right-hand side).
+template <int N>
+void apply_inverse_sized(const Content& c, const double* b, double* x, int blocks) {
+  const double* inverse = c.inverse.data();
+  for (int k = 0; k < blocks; ++k) {
+    const double* bk = b + static_cast<std::ptrdiff_t>(k) * N;
+    double acc[N] = {};
+#pragma GCC unroll 16
+    for (int j = 0; j < N; ++j) {
+      const double bj = bk[j];
+#pragma GCC unroll 16
+      for (int i = 0; i < N; ++i) acc[i] += inverse[j * N + i] * bj;
+    }
+    double* xk = x + static_cast<std::ptrdiff_t>(k) * N;
+#pragma GCC unroll 16
+    for (int i = 0; i < N; ++i) xk[i] = acc[i];
+  }
+}
+
+template <int... N>
+bool apply_inverse_dispatch(Content& c, const double* b, double* x, int blocks, std::integer_sequence<int, N...>) {
+  return ((c.n == N + 1 && (apply_inverse_sized<N + 1>(c, b, x, blocks), true)) || ...);
+}
+
 int solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype) {
   Content& c = content(S);
   double* xd = N_VGetArrayPointer(x);
@@ -115,8 +148,24 @@ int solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype) {
   // simultaneous corrector.
   const sunindextype length = N_VGetLength(b);
   if (length % c.n != 0 || N_VGetLength(x) != length) return static_cast<int>(c.last_flag = SUNLS_ILL_INPUT);
+  // Several blocks (a state stacked with its sensitivities), at the sizes written out: by the
+  // inverse, formed once per factorisation (n solves) and applied to every block of every
+  // Newton iteration until the next one.
+  if (length > c.n && c.n <= kSizedSolves) {
+    if (!c.inverse_current) {
+      c.scratch.setZero();  // the unit vectors
+      for (Eigen::Index j = 0; j < c.n; ++j) {
+        c.scratch[j] = 1;
+        solve_dispatch(c, c.scratch.data(), c.inverse.col(j).data(), std::make_integer_sequence<int, kSizedSolves>{});
+        c.scratch[j] = 0;
+      }
+      c.inverse_current = true;
+    }
+    apply_inverse_dispatch(c, bd, xd, static_cast<int>(length / c.n), std::make_integer_sequence<int, kSizedSolves>{});
+    return static_cast<int>(c.last_flag = SUNLS_SUCCESS);
+  }
   for (sunindextype k = 0; k < length; k += c.n)
-    solve_dispatch(c, bd + k, xd + k, std::make_integer_sequence<int, 16>{});
+    solve_dispatch(c, bd + k, xd + k, std::make_integer_sequence<int, kSizedSolves>{});
   return static_cast<int>(c.last_flag = SUNLS_SUCCESS);
 }
 
@@ -124,7 +173,7 @@ sunindextype last_flag(SUNLinearSolver S) { return content(S).last_flag; }
 
 int space(SUNLinearSolver S, long int* lenrw, long int* leniw) {
   const long int n = static_cast<long int>(content(S).n);
-  *lenrw = n * n;
+  *lenrw = 2 * n * n;  // the factors and the inverse
   *leniw = 2 * n;
   return SUNLS_SUCCESS;
 }

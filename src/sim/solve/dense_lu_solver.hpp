@@ -20,7 +20,9 @@ namespace kanesens::sim {
 
 // An n×n direct solver (SUNLINEARSOLVER_DIRECT) for a SUNDenseMatrix of that size; free it with
 // SUNLinSolFree. nullptr if allocation fails. A right-hand side of k·n entries (a state stacked
-// with its sensitivities) is solved block by block with the one factorisation; a length that is
+// with its sensitivities) is solved block by block with the one factorisation: for n ≤ 16 by
+// products with the inverse, formed from the factors at the first such solve after each setup
+// (its entries independent, where the substitutions are a chain per block); a length that is
 // not a multiple of n is SUNLS_ILL_INPUT.
 SUNLinearSolver make_dense_lu_solver(sunindextype n, SUNContext ctx);
 
