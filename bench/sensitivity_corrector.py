@@ -174,6 +174,13 @@ def relative(row, results):
     return max(v["max_abs_diff"] for v in results) / row["max_abs_sensitivity"]
 
 
+def header(lead, counts, tail, tail_align):
+    """A summary table's header: the `lead` columns, one per Ns (right-aligned), the `tail` ones."""
+    names = lead + [f"Ns = {k}" for k in counts] + tail
+    print("| " + " | ".join(names) + " |")
+    print("|" + "---|" * len(lead) + "---:|" * len(counts) + "".join(a + "|" for a in tail_align))
+
+
 def stacked_summary(path):
     """stacked against the corrector of CVODES's module that auto takes where stacked does not apply
     (staggered with projection, simultaneous without): medians, ratio and steps per scene, method and
@@ -182,9 +189,7 @@ def stacked_summary(path):
     print(f"Median of {r['runs']} interleaved runs, one solve per process: `stacked` / the module's corrector "
           "(`staggered` with projection, `simultaneous` without) in ms (ratio) [steps]; the largest difference "
           "of either's sensitivities from `simultaneous`'s, relative to the largest |sensitivity|.\n")
-    print("| scene | method | error control | module | " + " | ".join(f"Ns = {k}" for k in counts) +
-          " | max rel. diff |")
-    print("|---|---|---|---|" + "---:|" * len(counts) + "---:|")
+    header(["scene", "method", "error control", "module"], counts, ["max rel. diff"], ["---:"])
     for (scene, method, ec), rows in groups.items():
         module = "staggered" if rows[0]["projection"] else "simultaneous"
 
@@ -206,9 +211,8 @@ def summary(path):
     print(f"Median of {r['runs']} interleaved runs: `simultaneous` / `staggered` in ms (ratio); "
           "the largest difference between the correctors' sensitivities relative to the largest "
           "|sensitivity|.\n")
-    print("| scene | method | error control | " + " | ".join(f"Ns = {k}" for k in counts) +
-          " | max rel. diff | auto, where stacked does not apply |")
-    print("|---|---|---|" + "---:|" * len(counts) + "---:|---|")
+    header(["scene", "method", "error control"], counts, ["max rel. diff", "auto, where stacked does not apply"],
+           ["---:", "---"])
     for (scene, method, ec), rows in groups.items():
         def cell(row):
             a = statistics.median(row["results"]["simultaneous"]["wall_s"])

@@ -124,9 +124,10 @@ const char* Integrator::Impl::stacking_obstacle(OdeProblem& problem, int n_quad,
   return nullptr;
 }
 
-void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int n_quad, double t0, bool stack) {
+void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int n_quad, double t0) {
   release();
   const SolverOptions& o = options;
+  const bool stack = n_sens > 0 && sensitivity_method == SensitivityMethod::stacked;
   ctx = make_context();
   y = make_serial_vector(stack ? n_states * (1 + n_sens) : n_states, ctx.get());
   N_VConst(0.0, y.get());
@@ -201,10 +202,9 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
   }
 
   cb.stacked_ns = stack ? n_sens : 0;
-  if (stack) {
-    cb.s_in.assign(static_cast<std::size_t>(n_sens), nullptr);
-    cb.s_out.assign(static_cast<std::size_t>(n_sens), nullptr);
-  }
+  // The pointers the all-at-once sensitivity callbacks hand the problem (stacked or module).
+  cb.s_in.assign(static_cast<std::size_t>(n_sens), nullptr);
+  cb.s_out.assign(static_cast<std::size_t>(n_sens), nullptr);
   // → SensInit1 → sensitivity tolerances → SetSensParams (in reinit: per problem) → SensErrCon
   if (n_sens > 0 && !stack) {
     yS = NVectorArray(n_sens, y.get());
@@ -212,8 +212,6 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
     // Exact right-hand sides all at once (one multi-tangent pass), except for staggered1, which
     // CVODES runs only with the one-at-a-time form.
     if (o.sens_rhs == SensitivityRhs::exact && sensitivity_method != SensitivityMethod::staggered1) {
-      cb.s_in.assign(static_cast<std::size_t>(n_sens), nullptr);
-      cb.s_out.assign(static_cast<std::size_t>(n_sens), nullptr);
       check_flag(CVodeSensInit(mem.get(), n_sens, sensitivity_method_flag(sensitivity_method),
                                sens_rhs_all_trampoline, yS.get()),
                  "CVodeSensInit");
@@ -294,7 +292,6 @@ void Integrator::Impl::build(int n_states, int n_sens, bool with_projection, int
   ns = n_sens;
   nquad = n_quad;
   projection = with_projection;
-  stacked = stack;
   built = true;
 }
 
@@ -304,7 +301,7 @@ void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, OdeEvent
   cb.quadrature = quad;
   cb.nquad = nquad;
   problem.initial_state(N_VGetArrayPointer(y.get()));
-  if (stacked) {  // the sensitivities' initial values and tolerances, block by block
+  if (stacked()) {  // the sensitivities' initial values and tolerances, block by block
     double* yd = N_VGetArrayPointer(y.get());
     double* atol = N_VGetArrayPointer(atol_vector.get());
     const std::vector<double>& state_atol = options.atol_per_state;
@@ -322,7 +319,7 @@ void Integrator::Impl::reinit(OdeProblem& problem, OdeQuadrature* quad, OdeEvent
   check_flag(CVodeReInit(mem.get(), t0, y.get()), "CVodeReInit");
   dq_p = nullptr;
   dq_p_saved.clear();
-  if (ns > 0 && !stacked) {
+  if (ns > 0 && !stacked()) {
     for (int i = 0; i < ns; ++i) problem.initial_sensitivity(i, yS.data(i));
     check_flag(
         CVodeSensReInit(mem.get(), sensitivity_method_flag(sensitivity_method), yS.get()),
@@ -374,7 +371,7 @@ SolverStats Integrator::Impl::collect_stats() const {
     check_ls_flag(CVodeGetNumLinIters(m, &s.lin_iters), "CVodeGetNumLinIters");
     check_ls_flag(CVodeGetNumLinConvFails(m, &s.lin_conv_fails), "CVodeGetNumLinConvFails");
   }
-  if (stacked) {
+  if (stacked()) {
     s.sens_rhs_evals = s.rhs_evals;
   } else if (ns > 0) {
     long setups = 0;
@@ -421,12 +418,11 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
       resolve_sensitivity_method(im.options.sensitivity_method, with_projection, stacking_obstacle == nullptr);
   if (n_sens > 0 && sensitivity_method == SensitivityMethod::stacked && stacking_obstacle != nullptr)
     invalid(std::string("solver.sensitivity.method = stacked: ") + stacking_obstacle + " (use auto)");
-  const bool stack = n_sens > 0 && sensitivity_method == SensitivityMethod::stacked;
   if (!im.built || im.n != n_states || im.ns != n_sens || im.projection != with_projection || im.nquad != n_quad ||
-      im.linear_solver != linear_solver || im.sensitivity_method != sensitivity_method || im.stacked != stack) {
+      im.linear_solver != linear_solver || im.sensitivity_method != sensitivity_method) {
     im.linear_solver = linear_solver;
     im.sensitivity_method = sensitivity_method;
-    im.build(n_states, n_sens, with_projection, n_quad, times.front(), stack);
+    im.build(n_states, n_sens, with_projection, n_quad, times.front());
   }
   im.reinit(problem, quad, events, times.front(), times.back());
 
@@ -480,7 +476,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
     int flag = CVode(m, tout, im.y.get(), &t_reached, CV_NORMAL);
     bool stopped = false;
     while (flag == CV_ROOT_RETURN && !stopped) {
-      if (n_sens > 0 && !stack) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
+      if (n_sens > 0 && !im.stacked()) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
       stopped = im.handle_roots(t_reached, y, s);
       // A zero exactly at tout: y is y(tout) already. CVode(tout) again would search up to tout
       // once more and find g(tout) = 0 again, for ever.
@@ -494,7 +490,7 @@ IntegrationResult Integrator::integrate(OdeProblem& problem, std::span<const dou
       im.fail(result, flag, t_reached);
       break;
     }
-    if (n_sens > 0 && !stack) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
+    if (n_sens > 0 && !im.stacked()) check_flag(CVodeGetSens(m, &t_reached, im.yS.get()), "CVodeGetSens");
     record(static_cast<int>(k), tout, y, s);
     if (quad) im.quadrature.record(m, *quad, static_cast<int>(k), tout);
     ++result.outputs_recorded;

@@ -33,11 +33,11 @@ struct Integrator::Impl {
   int ns = 0;
   int nquad = 0;
   bool projection = false;
-  // The sensitivities ride in the state's vector, [y; s_0; …; s_ns−1], instead of CVODES's
-  // sensitivity module (Impl::stacks_sensitivities).
-  bool stacked = false;
   LinearSolver linear_solver = LinearSolver::dense;  // Newton's, resolved (automatic: no Newton)
   SensitivityMethod sensitivity_method = SensitivityMethod::simultaneous;  // resolved
+  // The sensitivities ride in the state's vector, [y; s_0; …; s_ns−1], instead of CVODES's
+  // sensitivity module (stacking_obstacle).
+  bool stacked() const { return ns > 0 && sensitivity_method == SensitivityMethod::stacked; }
 
   // Declared in creation order; release() frees them in reverse (cvode_mem first).
   ContextPtr ctx;
@@ -129,7 +129,8 @@ struct Integrator::Impl {
     if (!cb.solver_message.empty()) result.message += ": " + cb.solver_message;
     if (!cb.callback_message.empty()) result.message += "; " + cb.callback_message;
   }
-  void build(int n_states, int n_sens, bool with_projection, int n_quad, double t0, bool stack);
+  // Stacked or not: sensitivity_method (resolved) with n_sens > 0.
+  void build(int n_states, int n_sens, bool with_projection, int n_quad, double t0);
   // Why this problem's sensitivities cannot ride in the state's vector (SensitivityMethod::stacked),
   // nullptr when they can. linear_solver: the resolved one.
   const char* stacking_obstacle(OdeProblem& problem, int n_quad, LinearSolver linear_solver) const;

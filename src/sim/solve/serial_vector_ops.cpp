@@ -7,6 +7,7 @@
 
 #include <nvector/nvector_serial.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -216,7 +217,7 @@ N_Vector op_clone(N_Vector w) {
   N_Vector v = N_VCloneEmpty_Serial(w);
   if (v == nullptr) return nullptr;
   const std::size_t bytes = static_cast<std::size_t>(length(w)) * sizeof(Real);
-  void* memory = std::aligned_alloc(64, (bytes + 63) / 64 * 64 + (bytes == 0 ? 64 : 0));
+  void* memory = std::aligned_alloc(64, std::max<std::size_t>(64, (bytes + 63) / 64 * 64));  // whole lines
   if (memory == nullptr) {
     N_VDestroy_Serial(v);
     return nullptr;
