@@ -576,6 +576,67 @@ void KaneProblem::multiplier_sensitivity(double t, const double* y, int i, const
   sim::multiplier_sensitivity(model_, workspaces_.tangent(i), dynamics_, t, y, s, dlambda);
 }
 
+template <class Read>
+void KaneProblem::full_state_sensitivity_passes(double t, const double* y, const double* const* s, Read read) {
+  const int n = model_.nstate();
+  sensitivity_blocks_.for_each([&](auto& b) {
+    using MD = typename std::decay_t<decltype(b.y)>::value_type;
+    for (int r = 0; r < n; ++r) {
+      b.y[r].v = y[r];
+      b.y[r].set_tangents([&](int i) { return s[b.first + i][r]; }, b.count);
+    }
+    read(b, dynamics::evaluate_rhs(model_, b.ws, MD(t), b.y.data(), b.ydot.data(), dynamics_));
+  });
+}
+
+void KaneProblem::multiplier_sensitivities(double t, const double* y, const double* const* s, double* dlambda) {
+  const int m = model_.nconstraint_rows, ns = num_sensitivities();
+  if (single_tangent()) {
+    std::vector<double> dl(static_cast<std::size_t>(m));
+    for (int i = 0; i < ns; ++i) {
+      multiplier_sensitivity(t, y, i, s[i], dl.data());
+      for (int r = 0; r < m; ++r) dlambda[r * ns + i] = dl[static_cast<std::size_t>(r)];
+    }
+    return;
+  }
+  full_state_sensitivity_passes(t, y, s, [&](auto& b, bool ok) {
+    for (int r = 0; r < m; ++r)
+      for (int i = 0; i < b.count; ++i) dlambda[r * ns + b.first + i] = ok ? b.ws.multipliers[r].d(i) : std::nan("");
+  });
+}
+
+void KaneProblem::project_sensitivities(double t, const double* y, double* const* s) {
+  const int m = model_.nconstraint_rows, nu = model_.nu, ns = num_sensitivities(), mh = holonomic_.size();
+  if (m == 0 || ns == 0) return;
+  if (single_tangent()) {
+    for (int i = 0; i < ns; ++i) project_sensitivity(t, y, i, s[i]);
+    return;
+  }
+  auto evaluated = [t](bool ok) {
+    if (!ok)
+      throw std::runtime_error("sensitivity projection: mass matrix is not positive definite at t = " + std::to_string(t));
+  };
+  if (mh > 0) {
+    Eigen::MatrixXd rt(mh, ns);
+    full_state_sensitivity_passes(t, y, s, [&](auto& b, bool ok) {
+      evaluated(ok);
+      for (int r = 0; r < mh; ++r)
+        for (int i = 0; i < b.count; ++i)
+          rt(r, b.first + i) = b.ws.position_residual[holonomic_.rows()[static_cast<std::size_t>(r)]].d(i);
+    });
+    projector_.correct_sensitivity_positions(t, y, rt, s);
+  }
+  Eigen::MatrixXd A(m, nu), rv(m, ns);
+  full_state_sensitivity_passes(t, y, s, [&](auto& b, bool ok) {
+    evaluated(ok);
+    for (int r = 0; r < m; ++r) {
+      for (int k = 0; k < nu; ++k) A(r, k) = b.ws.constraint_matrix(r, k).v;
+      for (int i = 0; i < b.count; ++i) rv(r, b.first + i) = b.ws.velocity_residual[r].d(i);
+    }
+  });
+  projector_.correct_sensitivity_speeds(A, rv, s);
+}
+
 void KaneProblem::constraint_residuals(double t, const double* y, double& position, double& velocity) {
   sim::constraint_residuals(model_, workspaces_.values(), dynamics_, holonomic_.rows(), t, y, position, velocity);
 }

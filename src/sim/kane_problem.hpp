@@ -155,6 +155,9 @@ class KaneProblem final : public OdeProblem {
   double energy(double t, const double* y);
   void multipliers(double t, const double* y, double* lambda);
   void multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda);
+  // Every sensitivity's dλ/dε at once (dlambda[r · ns + i], NaN where λ cannot be computed):
+  // multi-tangent passes of the multiplier form, one per block of sensitivities.
+  void multiplier_sensitivities(double t, const double* y, const double* const* s, double* dlambda);
   void constraint_residuals(double t, const double* y, double& position, double& velocity);
   void sensitivity_constraint_residuals(double t, const double* y, int i, const double* s, double& position,
                                         double& velocity);
@@ -163,6 +166,9 @@ class KaneProblem final : public OdeProblem {
   // sensitivities drift off it (docs/explanation/constraints.md); simulate() applies this to the recorded
   // ones when stabilization is projection.
   void project_sensitivity(double t, const double* y, int i, double* s);
+  // All of them (s[i], nstate each), with one pass per block and stage and each of G's and A's
+  // factorisations formed once.
+  void project_sensitivities(double t, const double* y, double* const* s);
 
   // Size of the correction that made the sample's initial state consistent (max norms).
   double initial_position_correction() const { return initial_.position_correction; }
@@ -180,6 +186,11 @@ class KaneProblem final : public OdeProblem {
   // singular M or A_d, a degenerate constraint system): the integrator retries smaller.
   template <class S>
   void evaluate(dynamics::Workspace<S>& ws, const S& t, const S* y, S* ydot);
+  // The multiplier form at the full state y (nstate) in every sensitivity block, tangent i on y
+  // being s[i]; then read(block, evaluated) for each block (evaluated false where u̇ and λ
+  // cannot be computed).
+  template <class Read>
+  void full_state_sensitivity_passes(double t, const double* y, const double* const* s, Read read);
   // Throws the failure of the current sample's initial state, if any.
   void check_initial_state() const;
 

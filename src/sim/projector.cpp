@@ -66,7 +66,7 @@ int Projector::project(Workspace<double>& ws, double t, const double* y, int n, 
 
 void Projector::project_sensitivity(Workspace<Dual>& ws, const dynamics::DynamicsOptions& options, double t,
                                     const double* y, double* s) {
-  const int nq = model_.nq, nu = model_.nu, n = model_.nstate(), m = model_.nconstraint_rows;
+  const int nu = model_.nu, n = model_.nstate(), m = model_.nconstraint_rows;
   const int mh = holonomic_.size();
   if (m == 0) return;
   std::vector<Dual> yd(static_cast<std::size_t>(n)), ydot(static_cast<std::size_t>(n));
@@ -75,24 +75,35 @@ void Projector::project_sensitivity(Workspace<Dual>& ws, const dynamics::Dynamic
     if (!dynamics::evaluate_rhs(model_, ws, Dual(t), yd.data(), ydot.data(), options))
       throw std::runtime_error("sensitivity projection: mass matrix is not positive definite at t = " + std::to_string(t));
   };
+  double* const columns[] = {s};
   evaluate();
   if (mh > 0) {
-    Eigen::VectorXd g, rt(mh);
-    Eigen::MatrixXd G;
-    holonomic_.evaluate(t, y, g, &G);
-    for (int r = 0; r < mh; ++r) rt[r] = ws.position_residual[holonomic_.rows()[static_cast<std::size_t>(r)]].d;
-    const Eigen::VectorXd dq = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(G).solve(rt);
-    for (int k = 0; k < nq; ++k) s[k] -= dq[k];
+    Eigen::MatrixXd rt(mh, 1);
+    for (int r = 0; r < mh; ++r) rt(r, 0) = ws.position_residual[holonomic_.rows()[static_cast<std::size_t>(r)]].d;
+    correct_sensitivity_positions(t, y, rt, columns);
     evaluate();
   }
-  Eigen::MatrixXd A(m, nu);
-  Eigen::VectorXd rv(m);
+  Eigen::MatrixXd A(m, nu), rv(m, 1);
   for (int r = 0; r < m; ++r) {
     for (int k = 0; k < nu; ++k) A(r, k) = ws.constraint_matrix(r, k).v;
-    rv[r] = ws.velocity_residual[r].d;
+    rv(r, 0) = ws.velocity_residual[r].d;
   }
-  const Eigen::VectorXd du = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(A).solve(rv);
-  for (int k = 0; k < nu; ++k) s[nq + k] -= du[k];
+  correct_sensitivity_speeds(A, rv, columns);
+}
+
+void Projector::correct_sensitivity_positions(double t, const double* y, const Eigen::MatrixXd& r, double* const* s) {
+  Eigen::VectorXd g;
+  Eigen::MatrixXd G;
+  holonomic_.evaluate(t, y, g, &G);
+  const Eigen::MatrixXd dq = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(G).solve(r);
+  for (Eigen::Index i = 0; i < dq.cols(); ++i)
+    for (int k = 0; k < model_.nq; ++k) s[i][k] -= dq(k, i);
+}
+
+void Projector::correct_sensitivity_speeds(const Eigen::MatrixXd& A, const Eigen::MatrixXd& v, double* const* s) {
+  const Eigen::MatrixXd du = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(A).solve(v);
+  for (Eigen::Index i = 0; i < du.cols(); ++i)
+    for (int k = 0; k < model_.nu; ++k) s[i][model_.nq + k] -= du(k, i);
 }
 
 }  // namespace kanesens::sim

@@ -31,6 +31,12 @@ class Projector {
   // along (s, e_p). `ws` carries the sensitivity's parameter tangent.
   void project_sensitivity(dynamics::Workspace<math::Dual>& ws, const dynamics::DynamicsOptions& options, double t,
                            const double* y, double* s);
+  // The two corrections of project_sensitivity for k sensitivities s[0..k) at once, each
+  // factorisation formed once: s_i,q ← s_i,q − G⁺ r_i, with r (holonomic rows × k) the tangents of
+  // the holonomic residuals along (s_i, e_p) at (t, y); s_i,u ← s_i,u − A⁺ v_i, with A (m × nu) at
+  // the state and v (m × k) the tangents of A u + a0 (taken after the position correction).
+  void correct_sensitivity_positions(double t, const double* y, const Eigen::MatrixXd& r, double* const* s);
+  void correct_sensitivity_speeds(const Eigen::MatrixXd& A, const Eigen::MatrixXd& v, double* const* s);
 
  private:
   // Holonomic residual (and G) at q into g_ (G_): from the holonomic rows of A with q̇ = u for

@@ -66,7 +66,7 @@ RecordFn recorder(KaneProblem& problem, const RecordFlags& flags, Trajectory& tr
   // Scratch shared by the calls (the recorder is called once per output, never concurrently).
   auto yfull = std::make_shared<std::vector<double>>(n);
   auto s_full = std::make_shared<std::vector<std::vector<double>>>(ns, std::vector<double>(n));
-  auto s_ptr = std::make_shared<std::vector<const double*>>(ns);
+  auto s_ptr = std::make_shared<std::vector<double*>>(ns);
   const std::size_t nint = static_cast<std::size_t>(problem.size());
   auto y_projected = std::make_shared<std::vector<double>>(nint);
   auto correction = std::make_shared<std::vector<double>>(nint);
@@ -92,11 +92,12 @@ RecordFn recorder(KaneProblem& problem, const RecordFlags& flags, Trajectory& tr
     const double* y = yfull->data();
     for (std::size_t i = 0; sint && i < ns; ++i) {
       problem.full_sensitivity(t, yint, static_cast<int>(i), sint[i], (*s_full)[i].data());
-      // CVODES projects y only: record the sensitivities projected onto the tangent space
-      // (the integrator's own copies are left as they are).
-      if (problem.projects_sensitivities()) problem.project_sensitivity(t, y, static_cast<int>(i), (*s_full)[i].data());
       (*s_ptr)[i] = (*s_full)[i].data();
     }
+    // CVODES projects y only: record the sensitivities projected onto the tangent space
+    // (the integrator's own copies are left as they are).
+    if (sint && problem.projects_sensitivities())
+      problem.project_sensitivities(t, y, s_ptr->data());
     const double* const* s = sint ? s_ptr->data() : nullptr;
     if (outputs && (j == 0 || static_cast<std::size_t>(j) + 1 == schedule->times.size())) outputs->take_end_values(t, y, s);
     if (at) {
@@ -112,13 +113,7 @@ RecordFn recorder(KaneProblem& problem, const RecordFlags& flags, Trajectory& tr
     const std::size_t m = static_cast<std::size_t>(problem.model().nconstraint_rows);
     if (flags.multipliers && m > 0) {
       problem.multipliers(t, y, &traj.multipliers[kk * m]);
-      if (flags.sensitivities && s) {
-        std::vector<double> dl(m);
-        for (std::size_t i = 0; i < ns; ++i) {
-          problem.multiplier_sensitivity(t, y, static_cast<int>(i), s[i], dl.data());
-          for (std::size_t r = 0; r < m; ++r) traj.multiplier_sensitivities[(kk * m + r) * ns + i] = dl[r];
-        }
-      }
+      if (flags.sensitivities && s) problem.multiplier_sensitivities(t, y, s, &traj.multiplier_sensitivities[kk * m * ns]);
     }
     if (flags.constraint_residual && m > 0)
       problem.constraint_residuals(t, y, traj.position_residual[kk], traj.velocity_residual[kk]);

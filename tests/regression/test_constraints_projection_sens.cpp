@@ -187,4 +187,50 @@ TEST(ConstraintSensitivities, ProjectionWithEitherCorrectorAgainstFiniteDifferen
     }
 }
 
+// The recorder projects every sensitivity and differentiates λ along every one in multi-tangent
+// passes (KaneProblem::project_sensitivities, multiplier_sensitivities); one at a time, single
+// tangents (project_sensitivity, multiplier_sensitivity) give the same numbers to round-off, at
+// a state off the constraints and along arbitrary directions.
+TEST(ConstraintSensitivities, AllAtOnceEqualOneAtATime) {
+  const ks::Model model = model_from_text(kSpinningPinnedPendulum);
+  std::vector<ks::InputRef> refs;
+  for (const auto& nm : kNames) refs.push_back(ks::resolve_input(model, nm, "test"));
+  ks::KaneProblem problem(model, refs, constraint_options(Stab::projection));
+  const int n = model.nstate(), m = model.nconstraint_rows, ns = static_cast<int>(refs.size());
+  std::vector<double> y(static_cast<std::size_t>(n));
+  problem.initial_state(y.data());
+  for (int r = 0; r < n; ++r) y[static_cast<std::size_t>(r)] += 1e-3 * std::sin(1.0 + r);
+  std::vector<std::vector<double>> all(static_cast<std::size_t>(ns)), one;
+  std::vector<double*> columns;
+  for (int i = 0; i < ns; ++i) {
+    for (int r = 0; r < n; ++r) all[static_cast<std::size_t>(i)].push_back(std::cos(0.7 * i + 1.3 * r) * (1 + i));
+    columns.push_back(all[static_cast<std::size_t>(i)].data());
+  }
+  one = all;
+  const double t = 0.4;
+  std::vector<double> dl_all(static_cast<std::size_t>(m * ns)), dl_one(static_cast<std::size_t>(m));
+  problem.multiplier_sensitivities(t, y.data(), columns.data(), dl_all.data());
+  for (int i = 0; i < ns; ++i) {
+    problem.multiplier_sensitivity(t, y.data(), i, one[static_cast<std::size_t>(i)].data(), dl_one.data());
+    for (int r = 0; r < m; ++r)
+      EXPECT_NEAR(dl_all[static_cast<std::size_t>(r * ns + i)], dl_one[static_cast<std::size_t>(r)],
+                  1e-12 * (1 + std::abs(dl_one[static_cast<std::size_t>(r)])))
+          << "dλ" << r << "/d" << kNames[static_cast<std::size_t>(i)];
+  }
+  problem.project_sensitivities(t, y.data(), columns.data());
+  double moved = 0;
+  for (int i = 0; i < ns; ++i) {
+    std::vector<double>& s = one[static_cast<std::size_t>(i)];
+    const std::vector<double> before = s;
+    problem.project_sensitivity(t, y.data(), i, s.data());
+    for (int r = 0; r < n; ++r) {
+      const std::size_t k = static_cast<std::size_t>(r);
+      moved = std::max(moved, std::abs(s[k] - before[k]));
+      EXPECT_NEAR(all[static_cast<std::size_t>(i)][k], s[k], 1e-12 * (1 + std::abs(s[k])))
+          << "projected s" << r << " of " << kNames[static_cast<std::size_t>(i)];
+    }
+  }
+  EXPECT_GT(moved, 1e-3);  // the directions were far from the tangent space
+}
+
 }  // namespace
