@@ -229,6 +229,10 @@ def sensitivity_cost_stacked():
     return driver_table("sensitivity_cost", "sensitivity_cost_stacked.json")
 
 
+def sensitivity_cost_output_passes():
+    return driver_table("sensitivity_cost", "sensitivity_cost_output_passes.json")
+
+
 def sensitivity_corrector_stacked():
     return driver_table("sensitivity_corrector", "sensitivity_corrector_stacked.json", "stacked_summary")
 
@@ -969,6 +973,7 @@ TABLES = {
     "sensitivity_cost_reciprocal_pivots": sensitivity_cost_reciprocal_pivots,
     "sensitivity_cost_value_in_pack": sensitivity_cost_value_in_pack,
     "sensitivity_cost_stacked": sensitivity_cost_stacked, "sensitivity_corrector_stacked": sensitivity_corrector_stacked,
+    "sensitivity_cost_output_passes": sensitivity_cost_output_passes,
     "sensitivity_cost_fused": sensitivity_cost_fused, "sensitivity_cost_two": sensitivity_cost_two, "dop853_step_control": dop853_step_control, "sensitivity_cost_control": sensitivity_cost_control, "sensitivity_cost_vector_ops": sensitivity_cost_vector_ops, "sensitivity_cost_no_error_control": sensitivity_cost_no_error_control,
     "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
