@@ -190,11 +190,17 @@ TEST(ConstraintSensitivities, ProjectionWithEitherCorrectorAgainstFiniteDifferen
 // The recorder projects every sensitivity and differentiates λ along every one in multi-tangent
 // passes (KaneProblem::project_sensitivities, multiplier_sensitivities); one at a time, single
 // tangents (project_sensitivity, multiplier_sensitivity) give the same numbers to round-off, at
-// a state off the constraints and along arbitrary directions.
+// a state off the constraints and along arbitrary directions. Twenty directions (the four inputs
+// five times over) take two blocks, of 16 and 4.
 TEST(ConstraintSensitivities, AllAtOnceEqualOneAtATime) {
   const ks::Model model = model_from_text(kSpinningPinnedPendulum);
   std::vector<ks::InputRef> refs;
-  for (const auto& nm : kNames) refs.push_back(ks::resolve_input(model, nm, "test"));
+  std::vector<std::string> names;
+  for (int copy = 0; copy < 5; ++copy)
+    for (const auto& nm : kNames) {
+      refs.push_back(ks::resolve_input(model, nm, "test"));
+      names.push_back(nm);
+    }
   ks::KaneProblem problem(model, refs, constraint_options(Stab::projection));
   const int n = model.nstate(), m = model.nconstraint_rows, ns = static_cast<int>(refs.size());
   std::vector<double> y(static_cast<std::size_t>(n));
@@ -215,7 +221,7 @@ TEST(ConstraintSensitivities, AllAtOnceEqualOneAtATime) {
     for (int r = 0; r < m; ++r)
       EXPECT_NEAR(dl_all[static_cast<std::size_t>(r * ns + i)], dl_one[static_cast<std::size_t>(r)],
                   1e-12 * (1 + std::abs(dl_one[static_cast<std::size_t>(r)])))
-          << "dλ" << r << "/d" << kNames[static_cast<std::size_t>(i)];
+          << "dλ" << r << "/d" << names[static_cast<std::size_t>(i)] << " (direction " << i << ")";
   }
   problem.project_sensitivities(t, y.data(), columns.data());
   double moved = 0;
@@ -227,7 +233,7 @@ TEST(ConstraintSensitivities, AllAtOnceEqualOneAtATime) {
       const std::size_t k = static_cast<std::size_t>(r);
       moved = std::max(moved, std::abs(s[k] - before[k]));
       EXPECT_NEAR(all[static_cast<std::size_t>(i)][k], s[k], 1e-12 * (1 + std::abs(s[k])))
-          << "projected s" << r << " of " << kNames[static_cast<std::size_t>(i)];
+          << "projected s" << r << " of " << names[static_cast<std::size_t>(i)] << " (direction " << i << ")";
     }
   }
   EXPECT_GT(moved, 1e-3);  // the directions were far from the tangent space
