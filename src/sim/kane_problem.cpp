@@ -461,10 +461,16 @@ bool KaneProblem::fused_residual_pass(Workspace<S>& ws, double t, const S* y, do
   dynamics::forcing_values(model_, ws, wd, udot);
   for (int j = 0; j < nc; ++j) b[j] = math::value_of(c[j]);
   acceleration_tangents_.solve(model_, wd, udot, b);
+  // The solve leaves −λ in b. u̇ and λ solve the equations at y by construction, so of
+  // residual_pass's check only finiteness is left (where it fails, rhs() reports why).
+  double* lambda = jacobian_multipliers_.data();
+  bool finite = true;
+  for (int j = 0; j < nc; ++j) finite = std::isfinite(lambda[j] = -b[j]) && finite;
+  for (int k = 0; k < model_.nu; ++k) finite = std::isfinite(udot[k]) && finite;
+  if (!finite) return false;
   for (int i = 0; i < nq; ++i) ydot[i] = math::value_of(out[i]);
   dynamics::residual_from_rest(model_, ws, udot, out + nq, c);
-  // From here as residual_pass at this u̇ (a non-finite f fails the check, and rhs() reports it).
-  return solve_residual_tangents(ws, udot, out + nq, c, true);
+  return solve_residual_tangents(ws, udot, out + nq, c, false);
 }
 
 // f is the value part of the first whole sensitivity pass, or the residual passes' own f.
