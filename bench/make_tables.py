@@ -229,8 +229,8 @@ def sensitivity_cost_stacked():
     return driver_table("sensitivity_cost", "sensitivity_cost_stacked.json")
 
 
-def sensitivity_cost_output_passes():
-    return driver_table("sensitivity_cost", "sensitivity_cost_output_passes.json")
+def sensitivity_cost_after_stacking():
+    return driver_table("sensitivity_cost", "sensitivity_cost_after_stacking.json")
 
 
 def sensitivity_corrector_stacked():
@@ -973,7 +973,7 @@ TABLES = {
     "sensitivity_cost_reciprocal_pivots": sensitivity_cost_reciprocal_pivots,
     "sensitivity_cost_value_in_pack": sensitivity_cost_value_in_pack,
     "sensitivity_cost_stacked": sensitivity_cost_stacked, "sensitivity_corrector_stacked": sensitivity_corrector_stacked,
-    "sensitivity_cost_output_passes": sensitivity_cost_output_passes,
+    "sensitivity_cost_after_stacking": sensitivity_cost_after_stacking,
     "sensitivity_cost_fused": sensitivity_cost_fused, "sensitivity_cost_two": sensitivity_cost_two, "dop853_step_control": dop853_step_control, "sensitivity_cost_control": sensitivity_cost_control, "sensitivity_cost_vector_ops": sensitivity_cost_vector_ops, "sensitivity_cost_no_error_control": sensitivity_cost_no_error_control,
     "multitangent": multitangent, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
