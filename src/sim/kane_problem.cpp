@@ -618,14 +618,10 @@ void KaneProblem::project_sensitivities(double t, const double* y, double* const
     for (int i = 0; i < ns; ++i) project_sensitivity(t, y, i, s[i]);
     return;
   }
-  auto evaluated = [t](bool ok) {
-    if (!ok)
-      throw std::runtime_error("sensitivity projection: mass matrix is not positive definite at t = " + std::to_string(t));
-  };
   if (mh > 0) {
     Eigen::MatrixXd rt(mh, ns);
     full_state_sensitivity_passes(t, y, s, [&](auto& b, bool ok) {
-      evaluated(ok);
+      Projector::check_evaluated(ok, t);
       for (int r = 0; r < mh; ++r)
         for (int i = 0; i < b.count; ++i)
           rt(r, b.first + i) = b.ws.position_residual[holonomic_.rows()[static_cast<std::size_t>(r)]].d(i);
@@ -634,7 +630,7 @@ void KaneProblem::project_sensitivities(double t, const double* y, double* const
   }
   Eigen::MatrixXd A(m, nu), rv(m, ns);
   full_state_sensitivity_passes(t, y, s, [&](auto& b, bool ok) {
-    evaluated(ok);
+    Projector::check_evaluated(ok, t);
     for (int r = 0; r < m; ++r) {
       for (int k = 0; k < nu; ++k) A(r, k) = b.ws.constraint_matrix(r, k).v;
       for (int i = 0; i < b.count; ++i) rv(r, b.first + i) = b.ws.velocity_residual[r].d(i);

@@ -269,8 +269,9 @@ class KaneProblem final : public OdeProblem {
                                     double* const* sdot);
   // The first pass of fused_residual_sensitivities: the stages at u̇ = 0 give f on values
   // (dynamics::forcing_values), then u̇ and λ with M's factor from the same pass;
-  // residual_from_rest completes the residual at u̇, and the rest is residual_pass's. ydot gets
-  // f(t, y).
+  // residual_from_rest completes the residual at u̇, and the tangents are solved as in
+  // residual_pass, with that λ (u̇ and λ solve the equations by construction: only their
+  // finiteness is checked). ydot gets f(t, y).
   template <class S>
   bool fused_residual_pass(dynamics::Workspace<S>& ws, double t, const S* y, double* ydot, S* out, S* c);
   std::vector<double> fused_constraint_value_;  // m: −b, then scratch of the value solve

@@ -72,8 +72,7 @@ void Projector::project_sensitivity(Workspace<Dual>& ws, const dynamics::Dynamic
   std::vector<Dual> yd(static_cast<std::size_t>(n)), ydot(static_cast<std::size_t>(n));
   auto evaluate = [&] {
     for (int r = 0; r < n; ++r) yd[static_cast<std::size_t>(r)] = Dual(y[r], s[r]);
-    if (!dynamics::evaluate_rhs(model_, ws, Dual(t), yd.data(), ydot.data(), options))
-      throw std::runtime_error("sensitivity projection: mass matrix is not positive definite at t = " + std::to_string(t));
+    check_evaluated(dynamics::evaluate_rhs(model_, ws, Dual(t), yd.data(), ydot.data(), options), t);
   };
   double* const columns[] = {s};
   evaluate();
@@ -89,6 +88,11 @@ void Projector::project_sensitivity(Workspace<Dual>& ws, const dynamics::Dynamic
     rv(r, 0) = ws.velocity_residual[r].d;
   }
   correct_sensitivity_speeds(A, rv, columns);
+}
+
+void Projector::check_evaluated(bool ok, double t) {
+  if (!ok)
+    throw std::runtime_error("sensitivity projection: mass matrix is not positive definite at t = " + std::to_string(t));
 }
 
 void Projector::correct_sensitivity_positions(double t, const double* y, const Eigen::MatrixXd& r, double* const* s) {

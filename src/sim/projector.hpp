@@ -37,6 +37,8 @@ class Projector {
   // the state and v (m × k) the tangents of A u + a0 (taken after the position correction).
   void correct_sensitivity_positions(double t, const double* y, const Eigen::MatrixXd& r, double* const* s);
   void correct_sensitivity_speeds(const Eigen::MatrixXd& A, const Eigen::MatrixXd& v, double* const* s);
+  // Throws the projection's failure at t unless the dual evaluation it needs succeeded (`ok`).
+  static void check_evaluated(bool ok, double t);
 
  private:
   // Holonomic residual (and G) at q into g_ (G_): from the holonomic rows of A with q̇ = u for
