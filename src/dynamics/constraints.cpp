@@ -212,7 +212,22 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         // Offsets from the wheel's Q: c − Q = o_c, P − Q = o_c + r d.
         const int b = c.body;
         const Vec3<S> a = (ws.R[b] * vec3(ws, c.axis)).normalized();
-        const Vec3<S> n = vec3(ws, c.normal).normalized();
+        std::array<Vec3<S>, 3> e;
+        const Vec3<S> n_given = vec3(ws, c.normal);
+        if (!math::has_tangent(n_given[0]) && !math::has_tangent(n_given[1]) && !math::has_tangent(n_given[2])) {
+          // A fixed plane (the usual case): its unit normal and basis on values, the same numbers
+          // without carrying zero tangents through a norm and two quotients.
+          const Vec3<double> nv = Vec3<double>(value_of(n_given[0]), value_of(n_given[1]), value_of(n_given[2])).normalized();
+          Vec3<double> t1, t2;
+          rolling_plane_basis(nv, t1, t2);
+          e[0] = t1.cast<S>();
+          e[1] = t2.cast<S>();
+          e[2] = nv.cast<S>();
+        } else {
+          e[2] = n_given.normalized();
+          rolling_plane_basis(e[2], e[0], e[1]);
+        }
+        const Vec3<S>& n = e[2];
         const Vec3<S> w = n - n.dot(a) * a;
         const S wn = sqrt(w.squaredNorm());
         const Vec3<S> wh = w / wn;
@@ -230,9 +245,6 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         const Vec3<S> alpha = ws.bias_acceleration[b].template head<3>();
         const Vec3<S> bias = ws.bias_acceleration[b].template tail<3>() + alpha.cross(o_P) + omega.cross(Pdot);
         const Vec3<S> vP = vQ + omega.cross(o_P);
-        std::array<Vec3<S>, 3> e;
-        rolling_plane_basis(n, e[0], e[1]);
-        e[2] = n;
         for (int i = 0; i < 3; ++i) clear_row(ws, r0 + i);
         for_each_point_partial(m, ws, b, o_P, [&](int k, const Vec3<S>& V) {
           for (int i = 0; i < 3; ++i) ws.constraint_matrix(r0 + i, k) = e[i].dot(V);
@@ -242,7 +254,9 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
           ws.constraint_bias[r0 + i] = -e[i].dot(bias);
           ws.position_residual[r0 + i] = S(0);
         }
-        ws.position_residual[r0 + 2] = rolling_contact_height(m, ws, c);
+        // rolling_contact_height with this case's unit vectors: |n − (n·a) a| is |w|.
+        const Vec3<S> center = ws.tree_anchor[m.bodies[b].root_joint] + (ws.tree_position[b] + o_c);
+        ws.position_residual[r0 + 2] = n.dot(center) - radius * wn - ws.values[c.height];
         break;
       }
     }

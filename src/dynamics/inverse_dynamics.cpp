@@ -3,6 +3,7 @@
 #include "dynamics/inverse_dynamics.hpp"
 
 #include <algorithm>
+#include <type_traits>
 
 #include "math/cholesky.hpp"
 #include "math/dual.hpp"
@@ -169,11 +170,12 @@ AccelerationTangents::AccelerationTangents(const Model& m)
 bool AccelerationTangents::prepare(const Model& m, Workspace<double>& ws) {
   const int n = m.nu, nc = m.nconstraint_rows;
   if (nc == 0) return true;
-  for (int j = 0; j < nc; ++j) {
-    double* x = minv_at_.col(j).data();
-    for (int k = 0; k < n; ++k) x[k] = ws.constraint_matrix(j, k);
-    apply_mass_inverse(m, ws, x);
-  }
+  for (int j = 0; j < nc; ++j)
+    for (int k = 0; k < n; ++k) minv_at_(k, j) = ws.constraint_matrix(j, k);
+  if (ws.tree_factor)
+    for (int j = 0; j < nc; ++j) apply_mass_inverse(m, ws, minv_at_.col(j).data());
+  else
+    math::cholesky_solve_columns(ws.cholesky.data(), n, n, ws.inverse_pivots.data(), minv_at_.data(), n, nc);
   for (int j = 0; j < nc; ++j)
     for (int i = 0; i <= j; ++i) {
       double s = 0;
@@ -208,6 +210,7 @@ void AccelerationTangents::solve(const Model& m, Workspace<double>& ws, S* x, S*
   const int n = m.nu, nc = m.nconstraint_rows;
   // M⁻¹ δr with M's factor on values (the tree's, or the dense Cholesky of solve_accelerations).
   if (ws.tree_factor) tree::solve(m, ws.cholesky.data(), n, m.speed_order.data(), n, x);
+  else if constexpr (std::is_same_v<S, double>) math::cholesky_solve(ws.cholesky.data(), n, n, ws.inverse_pivots.data(), x);
   else math::cholesky_solve_with_value_factor(ws.cholesky.data(), n, n, x, ws.inverse_pivots.data());
   if (nc == 0) return;
   // δλ = −(A M⁻¹ Aᵀ)⁻¹ (δc + A M⁻¹ δr); δu̇ = M⁻¹ δr + M⁻¹ Aᵀ δλ.

@@ -223,6 +223,45 @@ inline void cholesky_solve(const double* U, std::ptrdiff_t ldu, int n, const dou
   }
 }
 
+namespace detail {
+// C columns of a column-major X (leading dimension ldx) solved together: each row's C dot
+// products in one sweep of U's column (dots<C>), so the columns' substitutions, each a chain of
+// dependent steps, run side by side.
+template <int C>
+void cholesky_solve_columns(const double* U, std::ptrdiff_t ldu, int n, const double* inverse_pivots, double* X,
+                            std::ptrdiff_t ldx) {
+  double s[C];
+  for (int i = 0; i < n; ++i) {
+    dots<C>(U + i * ldu, X, ldx, i, s);
+    for (int c = 0; c < C; ++c) X[c * ldx + i] = (X[c * ldx + i] - s[c]) * inverse_pivots[i];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    const double* Ui = U + i * ldu;
+    for (int c = 0; c < C; ++c) {
+      double* x = X + c * ldx;
+      const double xi = x[i] * inverse_pivots[i];
+      x[i] = xi;
+      for (int k = 0; k < i; ++k) x[k] -= xi * Ui[k];
+    }
+  }
+}
+}  // namespace detail
+
+// X ← (Uᵀ U)⁻¹ X for an n×ncols column-major X (leading dimension ldx), with the reciprocal
+// pivots of cholesky_factor: cholesky_solve's sums for every column (the same bits), up to four
+// columns at a time.
+inline void cholesky_solve_columns(const double* U, std::ptrdiff_t ldu, int n, const double* inverse_pivots,
+                                   double* X, std::ptrdiff_t ldx, int ncols) {
+  int c = 0;
+  for (; c + 4 <= ncols; c += 4) detail::cholesky_solve_columns<4>(U, ldu, n, inverse_pivots, X + c * ldx, ldx);
+  switch (ncols - c) {
+    case 3: detail::cholesky_solve_columns<3>(U, ldu, n, inverse_pivots, X + c * ldx, ldx); break;
+    case 2: detail::cholesky_solve_columns<2>(U, ldu, n, inverse_pivots, X + c * ldx, ldx); break;
+    case 1: detail::cholesky_solve_columns<1>(U, ldu, n, inverse_pivots, X + c * ldx, ldx); break;
+    default: break;
+  }
+}
+
 // X ← (Uᵀ U)⁻¹ X for an n×ncols row-major X (leading dimension ldx), with the reciprocal pivots
 // of cholesky_factor: cholesky_solve's substitutions applied to whole rows, so that the work on
 // the columns is vector operations along each row.

@@ -24,6 +24,7 @@
 #include <random>
 
 #include "../support/constraint_test_support.hpp"
+#include "sim/kane_problem.hpp"
 #include "../support/layers.hpp"
 
 namespace ks = kanesens::testing;
@@ -261,6 +262,72 @@ TEST(ConstraintBias, RollingDiscPlanarAndTilted) {
   }
   std::printf("rolling disc bias vs central difference (40 random states): worst %.2e\n", worst);
   EXPECT_LT(worst, 1e-7);
+}
+
+// The rolling rows' tangents in the solvers' multi-tangent passes, on a tilted plane whose
+// normal is a function of the parameter r (its norm and basis then carry r's tangent) and on a
+// fixed tilted plane (formed on values): the sensitivity right-hand sides J s + ∂f/∂p against
+// central differences of the right-hand side in r, in m and along a state direction.
+TEST(RollingSensitivities, PlaneNormalOfAParameterAndFixedMatchDifferences) {
+  std::mt19937_64 rng(17);
+  for (const char* normal : {R"([0.2, "0.3*r", 1])", "[0.2, 0.3, 1]"}) {
+    SCOPED_TRACE(normal);
+    const ks::Model m = model_from_text(disc_scene({0, 0, 1, 1, 0, 0, 0}, {0, 0, 0, 0, 0, 0}, normal));
+    ks::ConstraintOptions co;
+    co.formulation = ks::ConstraintOptions::Formulation::multipliers;
+    co.stabilization = ks::ConstraintOptions::Stabilization::baumgarte;
+    const std::vector<ks::InputRef> refs = {ks::resolve_input(m, "r", "test"), ks::resolve_input(m, "m", "test"),
+                                            ks::resolve_input(m, "base.u0[4]", "test")};
+    ks::KaneProblem p(m, refs, co);
+    const ks::SampleInputs nominal(m);
+    p.set_sample(nominal);
+    const int n = p.size();
+    const std::vector<double> y = random_state(m, rng, 1.0, 2.0);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::vector<std::vector<double>> s(3, std::vector<double>(static_cast<std::size_t>(n), 0.0));
+    for (double& v : s[2]) v = u(rng);  // a state direction; the parameters' start at 0
+    std::vector<std::vector<double>> sdot(3, std::vector<double>(static_cast<std::size_t>(n)));
+    std::vector<double> f(static_cast<std::size_t>(n));
+    const double* in[3] = {s[0].data(), s[1].data(), s[2].data()};
+    double* out[3] = {sdot[0].data(), sdot[1].data(), sdot[2].data()};
+    p.rhs_with_sensitivities(0.1, y.data(), 3, in, f.data(), out);
+
+    const double h = 1e-6;
+    std::vector<double> fp(f.size()), fm(f.size());
+    auto difference = [&](int i) {
+      if (i < 2) {
+        const double p0 = nominal.get(m, refs[static_cast<std::size_t>(i)]);
+        ks::SampleInputs moved = nominal;
+        moved.set(refs[static_cast<std::size_t>(i)], p0 + h);
+        p.set_sample(moved);
+        p.rhs(0.1, y.data(), fp.data());
+        moved.set(refs[static_cast<std::size_t>(i)], p0 - h);
+        p.set_sample(moved);
+        p.rhs(0.1, y.data(), fm.data());
+        p.set_sample(nominal);
+      } else {
+        std::vector<double> yp(y), ym(y);
+        for (int r = 0; r < n; ++r) {
+          yp[static_cast<std::size_t>(r)] += h * s[2][static_cast<std::size_t>(r)];
+          ym[static_cast<std::size_t>(r)] -= h * s[2][static_cast<std::size_t>(r)];
+        }
+        p.rhs(0.1, yp.data(), fp.data());
+        p.rhs(0.1, ym.data(), fm.data());
+      }
+    };
+    for (int i = 0; i < 3; ++i) {
+      difference(i);
+      double scale = 1, err = 0;
+      for (int r = 0; r < n; ++r) {
+        const double fd = (fp[static_cast<std::size_t>(r)] - fm[static_cast<std::size_t>(r)]) / (2 * h);
+        scale = std::max(scale, std::abs(fd));
+        err = std::max(err, std::abs(sdot[static_cast<std::size_t>(i)][static_cast<std::size_t>(r)] - fd));
+      }
+      std::printf("normal %s, sensitivity %d: multi-tangent pass vs central difference %.2e (scale %.2e)\n", normal,
+                  i, err / scale, scale);
+      EXPECT_LT(err / scale, 1e-7) << "sensitivity " << i;
+    }
+  }
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <exception>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -77,6 +78,11 @@ struct CallbackData {
   // Scan a callback's output; a NaN or Inf makes the step fail recoverably (+1), so CVODES
   // retries with a smaller step; if that keeps happening it gives up with a flag < 0.
   int check_finite(const char* where, double t, const double* v, long count) noexcept {
+    // One branch-free sweep (an OR of the entries' tests vectorises; a stacked state is several
+    // times the state), then the first bad entry is looked for only when there is one.
+    bool bad = false;
+    for (long i = 0; i < count; ++i) bad |= !(std::abs(v[i]) <= std::numeric_limits<double>::max());
+    if (!bad) return 0;
     for (long i = 0; i < count; ++i) {
       if (!std::isfinite(v[i])) {
         ++recoverable;
