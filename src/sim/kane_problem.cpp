@@ -33,7 +33,8 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       jacobian_multipliers_(static_cast<std::size_t>(model.nconstraint_rows)),
       fused_constraint_value_(static_cast<std::size_t>(model.nconstraint_rows)),
       u_full_(static_cast<std::size_t>(model.nu)),
-      s_full_(static_cast<std::size_t>(model.nstate())) {
+      s_full_(static_cast<std::size_t>(model.nstate())),
+      recorded_rate_(static_cast<std::size_t>(model.nstate())) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
   if (!model.evaluate_planar()) sensitivity_method_ = DerivativeMethod::residual;
   if (dynamics::ResidualDerivatives::applies(model)) {
@@ -605,10 +606,30 @@ void KaneProblem::multiplier_sensitivities(double t, const double* y, const doub
     }
     return;
   }
+  if (fused_multiplier_sensitivities(t, y, s, dlambda)) return;
   full_state_sensitivity_passes(t, y, s, [&](auto& b, bool ok) {
     for (int r = 0; r < m; ++r)
       for (int i = 0; i < b.count; ++i) dlambda[r * ns + b.first + i] = ok ? b.ws.multipliers[r].d(i) : std::nan("");
   });
+}
+
+// The stacked right-hand side's passes (fused_residual_sensitivities) leave −δλ in each block's
+// constraint part (AccelerationTangents::solve): dλ/dε without forming M on the tangent scalar.
+bool KaneProblem::fused_multiplier_sensitivities(double t, const double* y, const double* const* s, double* dlambda) {
+  if (embedded_ || sensitivity_method_ != DerivativeMethod::residual || model_.evaluate_planar()) return false;
+  const int m = model_.nconstraint_rows, ns = num_sensitivities();
+  return blocked_passes(
+      sensitivity_blocks_, y, [&](int i, int r) { return s[i][r]; }, [](int, int, double) {},
+      [&](auto& b, bool first) {
+        const bool ok = first ? fused_residual_pass(b.ws, t, b.y.data(), recorded_rate_.data(), b.ydot.data(),
+                                                    b.constraint_residual.data())
+                              : residual_pass(b.ws, t, b.y.data(), recorded_rate_.data(), b.ydot.data(),
+                                              b.constraint_residual.data(), false);
+        if (ok)
+          for (int r = 0; r < m; ++r)
+            for (int i = 0; i < b.count; ++i) dlambda[r * ns + b.first + i] = -b.constraint_residual[r].d(i);
+        return ok;
+      });
 }
 
 void KaneProblem::project_sensitivities(double t, const double* y, double* const* s) {

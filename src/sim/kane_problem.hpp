@@ -156,7 +156,8 @@ class KaneProblem final : public OdeProblem {
   void multipliers(double t, const double* y, double* lambda);
   void multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda);
   // Every sensitivity's dλ/dε at once (dlambda[r · ns + i], NaN where λ cannot be computed):
-  // multi-tangent passes of the multiplier form, one per block of sensitivities.
+  // one multi-tangent pass per block of sensitivities — the stacked right-hand side's residual
+  // passes where they apply, else the multiplier form's.
   void multiplier_sensitivities(double t, const double* y, const double* const* s, double* dlambda);
   void constraint_residuals(double t, const double* y, double& position, double& velocity);
   void sensitivity_constraint_residuals(double t, const double* y, int i, const double* s, double& position,
@@ -286,6 +287,10 @@ class KaneProblem final : public OdeProblem {
   template <class Scratch>
   [[noreturn]] void throw_embedding_failure(const Scratch& sc, double t) const;
   std::vector<double> u_full_, s_full_;  // after_step scratch (nu, nstate)
+  // multiplier_sensitivities from the fused residual passes (3-D path, multipliers): false
+  // where they do not apply or cannot evaluate (the multiplier form's passes then say which).
+  bool fused_multiplier_sensitivities(double t, const double* y, const double* const* s, double* dlambda);
+  std::vector<double> recorded_rate_;  // nstate: ẏ of those passes (not needed)
 };
 
 }  // namespace kanesens::sim
