@@ -111,6 +111,49 @@ void general_velocity(const Model& m, Workspace<S>& ws, const Constraint& c, int
   ws.position_residual[row] = S(0);
 }
 
+// The rolling constraint's three rows in the plane's basis e = (t1, t2, n) (scalar T: S, or
+// double for a fixed plane).
+// Contact point P = c + r d, d = −unit(n − (n·a) a): the wheel point nearest the plane. Rows
+// t1, t2 are the no-slip rows; row n is the velocity form of the contact height
+// (rolling_contact_height). Offsets from the wheel's Q: c − Q = o_c, P − Q = o_c + r d.
+template <class S, class T>
+void rolling_rows(const Model& m, Workspace<S>& ws, const Constraint& c, const std::array<Vec3<T>, 3>& e) {
+  using std::sqrt;
+  const int b = c.body, r0 = c.row_offset;
+  const Vec3<T>& n = e[2];
+  const Vec3<S> a = (ws.R[b] * vec3(ws, c.axis)).normalized();
+  const S na = a.dot(n);
+  const Vec3<S> w = n - na * a;
+  const S wn = sqrt(w.squaredNorm());
+  const Vec3<S> wh = w / wn;
+  const S radius = ws.values[c.radius];
+  const Vec3<S> o_c = point_offset(ws, b, Vec3<S>::Zero().eval());
+  const Vec3<S> o_P = o_c - radius * wh;
+  const Vec3<S> omega = ws.velocity[b].template head<3>();
+  const Vec3<S> vQ = ws.velocity[b].template tail<3>();
+  const Vec3<S> vc = vQ + omega.cross(o_c);
+  // Ṗ = v_c + r ḋ, with ȧ = ω × a, ẇ = −(ȧ·n) a − (a·n) ȧ, ḋ = −(ẇ − ŵ(ŵ·ẇ))/|w|.
+  const Vec3<S> adot = omega.cross(a);
+  const Vec3<S> wdot = -adot.dot(n) * a - na * adot;
+  const Vec3<S> ddot = -(wdot - wh * wh.dot(wdot)) / wn;
+  const Vec3<S> Pdot = vc + radius * ddot;
+  const Vec3<S> alpha = ws.bias_acceleration[b].template head<3>();
+  const Vec3<S> bias = ws.bias_acceleration[b].template tail<3>() + alpha.cross(o_P) + omega.cross(Pdot);
+  const Vec3<S> vP = vQ + omega.cross(o_P);
+  for (int i = 0; i < 3; ++i) clear_row(ws, r0 + i);
+  for_each_point_partial(m, ws, b, o_P, [&](int k, const Vec3<S>& V) {
+    for (int i = 0; i < 3; ++i) ws.constraint_matrix(r0 + i, k) = V.dot(e[i]);
+  });
+  for (int i = 0; i < 3; ++i) {
+    ws.velocity_residual[r0 + i] = vP.dot(e[i]);
+    ws.constraint_bias[r0 + i] = -bias.dot(e[i]);
+    ws.position_residual[r0 + i] = S(0);
+  }
+  // rolling_contact_height with this case's unit vectors: |n − (n·a) a| is |w|.
+  const Vec3<S> center = ws.tree_anchor[m.bodies[b].root_joint] + (ws.tree_position[b] + o_c);
+  ws.position_residual[r0 + 2] = center.dot(n) - radius * wn - ws.values[c.height];
+}
+
 }  // namespace
 
 template <class S>
@@ -206,57 +249,20 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         else general_velocity(m, ws, c, r0, q, u);
         break;
       case Constraint::Kind::rolling: {
-        // Contact point P = c + r d, d = −unit(n − (n·a) a): the wheel point nearest the plane.
-        // Rows in the plane's basis (t1, t2, n): two no-slip rows and the normal row, which is
-        // the velocity form of the contact height (rolling_contact_height).
-        // Offsets from the wheel's Q: c − Q = o_c, P − Q = o_c + r d.
-        const int b = c.body;
-        const Vec3<S> a = (ws.R[b] * vec3(ws, c.axis)).normalized();
-        std::array<Vec3<S>, 3> e;
         const Vec3<S> n_given = vec3(ws, c.normal);
         if (!math::has_tangent(n_given[0]) && !math::has_tangent(n_given[1]) && !math::has_tangent(n_given[2])) {
-          // A fixed plane (the usual case): its unit normal and basis on values, the same numbers
-          // without carrying zero tangents through a norm and two quotients.
-          const Vec3<double> nv = Vec3<double>(value_of(n_given[0]), value_of(n_given[1]), value_of(n_given[2])).normalized();
-          Vec3<double> t1, t2;
-          rolling_plane_basis(nv, t1, t2);
-          e[0] = t1.cast<S>();
-          e[1] = t2.cast<S>();
-          e[2] = nv.cast<S>();
+          // A fixed plane (the usual case): its unit normal and basis on values, so that the rows
+          // are formed with products by plain numbers (half the work on a tangent scalar).
+          std::array<Vec3<double>, 3> e;
+          e[2] = Vec3<double>(value_of(n_given[0]), value_of(n_given[1]), value_of(n_given[2])).normalized();
+          rolling_plane_basis(e[2], e[0], e[1]);
+          rolling_rows(m, ws, c, e);
         } else {
+          std::array<Vec3<S>, 3> e;
           e[2] = n_given.normalized();
           rolling_plane_basis(e[2], e[0], e[1]);
+          rolling_rows(m, ws, c, e);
         }
-        const Vec3<S>& n = e[2];
-        const Vec3<S> w = n - n.dot(a) * a;
-        const S wn = sqrt(w.squaredNorm());
-        const Vec3<S> wh = w / wn;
-        const S radius = ws.values[c.radius];
-        const Vec3<S> o_c = point_offset(ws, b, Vec3<S>::Zero().eval());
-        const Vec3<S> o_P = o_c - radius * wh;
-        const Vec3<S> omega = ws.velocity[b].template head<3>();
-        const Vec3<S> vQ = ws.velocity[b].template tail<3>();
-        const Vec3<S> vc = vQ + omega.cross(o_c);
-        // Ṗ = v_c + r ḋ, with ȧ = ω × a, ẇ = −(ȧ·n) a − (a·n) ȧ, ḋ = −(ẇ − ŵ(ŵ·ẇ))/|w|.
-        const Vec3<S> adot = omega.cross(a);
-        const Vec3<S> wdot = -adot.dot(n) * a - a.dot(n) * adot;
-        const Vec3<S> ddot = -(wdot - wh * wh.dot(wdot)) / wn;
-        const Vec3<S> Pdot = vc + radius * ddot;
-        const Vec3<S> alpha = ws.bias_acceleration[b].template head<3>();
-        const Vec3<S> bias = ws.bias_acceleration[b].template tail<3>() + alpha.cross(o_P) + omega.cross(Pdot);
-        const Vec3<S> vP = vQ + omega.cross(o_P);
-        for (int i = 0; i < 3; ++i) clear_row(ws, r0 + i);
-        for_each_point_partial(m, ws, b, o_P, [&](int k, const Vec3<S>& V) {
-          for (int i = 0; i < 3; ++i) ws.constraint_matrix(r0 + i, k) = e[i].dot(V);
-        });
-        for (int i = 0; i < 3; ++i) {
-          ws.velocity_residual[r0 + i] = e[i].dot(vP);
-          ws.constraint_bias[r0 + i] = -e[i].dot(bias);
-          ws.position_residual[r0 + i] = S(0);
-        }
-        // rolling_contact_height with this case's unit vectors: |n − (n·a) a| is |w|.
-        const Vec3<S> center = ws.tree_anchor[m.bodies[b].root_joint] + (ws.tree_position[b] + o_c);
-        ws.position_residual[r0 + 2] = n.dot(center) - radius * wn - ws.values[c.height];
         break;
       }
     }

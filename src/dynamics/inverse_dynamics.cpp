@@ -164,6 +164,7 @@ bool factor_mass_matrix_values(const Model& m, const Workspace<S>& ws, Workspace
 AccelerationTangents::AccelerationTangents(const Model& m)
     : minv_at_(m.nu, m.nconstraint_rows),
       schur_(m.nconstraint_rows, m.nconstraint_rows),
+      schur_inverse_pivots_(m.nconstraint_rows),
       g_(m.nconstraint_rows),
       x_(m.nu) {}
 
@@ -186,7 +187,7 @@ bool AccelerationTangents::prepare(const Model& m, Workspace<double>& ws) {
   // redundant rows there.
   double max0 = 0;
   for (int i = 0; i < nc; ++i) max0 = std::max(max0, schur_(i, i));
-  if (!math::cholesky_factor(schur_.data(), nc, schur_.data(), nc, nc)) return false;
+  if (!math::cholesky_factor(schur_.data(), nc, schur_.data(), nc, nc, schur_inverse_pivots_.data())) return false;
   for (int i = 0; i < nc; ++i)
     if (!(schur_(i, i) * schur_(i, i) > 1e-11 * max0)) return false;
   return true;
@@ -202,7 +203,7 @@ void AccelerationTangents::multipliers(const Model& m, Workspace<double>& ws, co
     for (int k = 0; k < n; ++k) s += ws.constraint_matrix(j, k) * x_[k];
     lambda[j] = -s;
   }
-  math::cholesky_solve(schur_.data(), nc, nc, lambda);
+  math::cholesky_solve(schur_.data(), nc, nc, schur_inverse_pivots_.data(), lambda);
 }
 
 template <class S>
@@ -216,7 +217,7 @@ void AccelerationTangents::solve(const Model& m, Workspace<double>& ws, S* x, S*
   // δλ = −(A M⁻¹ Aᵀ)⁻¹ (δc + A M⁻¹ δr); δu̇ = M⁻¹ δr + M⁻¹ Aᵀ δλ.
   for (int j = 0; j < nc; ++j)
     for (int k = 0; k < n; ++k) dc[j] += ws.constraint_matrix(j, k) * x[k];
-  math::cholesky_solve_with_value_factor(schur_.data(), nc, nc, dc);
+  math::cholesky_solve_with_value_factor(schur_.data(), nc, nc, dc, schur_inverse_pivots_.data());
   for (int j = 0; j < nc; ++j)
     for (int k = 0; k < n; ++k) x[k] -= minv_at_(k, j) * dc[j];
 }

@@ -70,6 +70,7 @@ class AccelerationTangents {
  private:
   Eigen::MatrixXd minv_at_;  // nu×m: M⁻¹ Aᵀ
   Eigen::MatrixXd schur_;    // m×m: the Cholesky factor of A M⁻¹ Aᵀ (upper)
+  Eigen::VectorXd schur_inverse_pivots_;  // m: its reciprocal pivots (the solves multiply)
   Eigen::VectorXd g_, x_;    // m, nu
 };
 
