@@ -613,6 +613,16 @@ void KaneProblem::multiplier_sensitivities(double t, const double* y, const doub
   });
 }
 
+void KaneProblem::multipliers_and_sensitivities(double t, const double* y, const double* const* s, double* lambda,
+                                                double* dlambda) {
+  if (!single_tangent() && fused_multiplier_sensitivities(t, y, s, dlambda)) {
+    std::copy(jacobian_multipliers_.begin(), jacobian_multipliers_.end(), lambda);  // that pass's own λ
+    return;
+  }
+  multipliers(t, y, lambda);
+  multiplier_sensitivities(t, y, s, dlambda);
+}
+
 // The stacked right-hand side's passes (fused_residual_sensitivities) leave −δλ in each block's
 // constraint part (AccelerationTangents::solve): dλ/dε without forming M on the tangent scalar.
 bool KaneProblem::fused_multiplier_sensitivities(double t, const double* y, const double* const* s, double* dlambda) {

@@ -159,6 +159,10 @@ class KaneProblem final : public OdeProblem {
   // one multi-tangent pass per block of sensitivities — the stacked right-hand side's residual
   // passes where they apply, else the multiplier form's.
   void multiplier_sensitivities(double t, const double* y, const double* const* s, double* dlambda);
+  // λ (m) and every dλ/dε: where the residual passes apply, λ is the one their first pass
+  // solves for, not evaluated again.
+  void multipliers_and_sensitivities(double t, const double* y, const double* const* s, double* lambda,
+                                     double* dlambda);
   void constraint_residuals(double t, const double* y, double& position, double& velocity);
   void sensitivity_constraint_residuals(double t, const double* y, int i, const double* s, double& position,
                                         double& velocity);

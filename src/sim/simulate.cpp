@@ -112,8 +112,11 @@ RecordFn recorder(KaneProblem& problem, const RecordFlags& flags, Trajectory& tr
     if (flags.energy) traj.energy[kk] = problem.energy(t, y);
     const std::size_t m = static_cast<std::size_t>(problem.model().nconstraint_rows);
     if (flags.multipliers && m > 0) {
-      problem.multipliers(t, y, &traj.multipliers[kk * m]);
-      if (flags.sensitivities && s) problem.multiplier_sensitivities(t, y, s, &traj.multiplier_sensitivities[kk * m * ns]);
+      if (flags.sensitivities && s)
+        problem.multipliers_and_sensitivities(t, y, s, &traj.multipliers[kk * m],
+                                              &traj.multiplier_sensitivities[kk * m * ns]);
+      else
+        problem.multipliers(t, y, &traj.multipliers[kk * m]);
     }
     if (flags.constraint_residual && m > 0)
       problem.constraint_residuals(t, y, traj.position_residual[kk], traj.velocity_residual[kk]);

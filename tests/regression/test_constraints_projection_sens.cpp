@@ -275,6 +275,16 @@ TEST(ConstraintSensitivities, AllAtOnceMultipliersOnTheThreeDimensionalPath) {
     }
   }
   EXPECT_GT(largest, 1.0);  // the directions move λ
+  // λ with them (the recorder's call): the residual pass's own λ, the multiplier form's to
+  // round-off; the same dλ/dε.
+  std::vector<double> lambda(static_cast<std::size_t>(m)), lambda_rhs(lambda.size()), dl_with(dl_all.size());
+  problem.multipliers_and_sensitivities(0.4, y.data(), columns.data(), lambda.data(), dl_with.data());
+  problem.multipliers(0.4, y.data(), lambda_rhs.data());
+  for (int r = 0; r < m; ++r)
+    EXPECT_NEAR(lambda[static_cast<std::size_t>(r)], lambda_rhs[static_cast<std::size_t>(r)],
+                1e-12 * (1 + std::abs(lambda_rhs[static_cast<std::size_t>(r)])))
+        << "λ" << r;
+  EXPECT_EQ(dl_with, dl_all);
 }
 
 }  // namespace
