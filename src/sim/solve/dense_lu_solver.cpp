@@ -107,6 +107,40 @@ void solve_any(Content& c, const double* b, double* x) {
   }
 }
 
+// c.inverse = (P⁻¹ L U)⁻¹ for n = N: solve_sized's substitutions applied to the permuted identity
+// a whole row at a time (every column's entry gets the same operations in the same order, so
+// each column is what solve_sized gives for that unit vector, to the bit), the rows' entries
+// in vector operations.
+template <int N>
+void form_inverse_sized(Content& c) {
+  const double* lu = c.lu.matrixLU().data();
+  const double* inverse_pivots = c.inverse_pivots.data();
+  alignas(64) double X[N][N] = {};
+  for (int k = 0; k < N; ++k) X[k][c.source_rows[static_cast<std::size_t>(k)]] = 1;
+  for (int j = 0; j < N; ++j)  // L Y = P
+    for (int i = j + 1; i < N; ++i) {
+      const double l = lu[j * N + i];
+#pragma GCC unroll 16
+      for (int k = 0; k < N; ++k) X[i][k] -= l * X[j][k];
+    }
+  for (int j = N - 1; j >= 0; --j) {  // U X = Y
+#pragma GCC unroll 16
+    for (int k = 0; k < N; ++k) X[j][k] *= inverse_pivots[j];
+    for (int i = 0; i < j; ++i) {
+      const double u = lu[j * N + i];
+#pragma GCC unroll 16
+      for (int k = 0; k < N; ++k) X[i][k] -= u * X[j][k];
+    }
+  }
+  for (int j = 0; j < N; ++j)
+    for (int i = 0; i < N; ++i) c.inverse(i, j) = X[i][j];
+}
+
+template <int... N>
+void form_inverse_dispatch(Content& c, std::integer_sequence<int, N...>) {
+  ((c.n == N + 1 && (form_inverse_sized<N + 1>(c), true)) || ...);
+}
+
 template <int... N>
 void solve_dispatch(Content& c, const double* b, double* x, std::integer_sequence<int, N...>) {
   if (!((c.n == N + 1 && (solve_sized<N + 1>(c, b, x), true)) || ...)) solve_any(c, b, x);
@@ -153,12 +187,7 @@ int solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype) {
   // Newton iteration until the next one.
   if (length > c.n && c.n <= kSizedSolves) {
     if (!c.inverse_current) {
-      c.scratch.setZero();  // the unit vectors
-      for (Eigen::Index j = 0; j < c.n; ++j) {
-        c.scratch[j] = 1;
-        solve_dispatch(c, c.scratch.data(), c.inverse.col(j).data(), std::make_integer_sequence<int, kSizedSolves>{});
-        c.scratch[j] = 0;
-      }
+      form_inverse_dispatch(c, std::make_integer_sequence<int, kSizedSolves>{});
       c.inverse_current = true;
     }
     apply_inverse_dispatch(c, bd, xd, static_cast<int>(length / c.n), std::make_integer_sequence<int, kSizedSolves>{});
