@@ -20,9 +20,10 @@ Vec3<S> vec3(const Workspace<S>& ws, const Slot3& s) {
 }
 
 // Zeroes row r of A where it can be nonzero (ConstraintSparsity); the rest of A is zero from
-// the workspace's construction on and never written.
+// the workspace's construction on and never written. (Inlined: a call per row costs as much as
+// the few stores it makes.)
 template <class S>
-void clear_row(Workspace<S>& ws, int r) {
+[[gnu::always_inline]] inline void clear_row(Workspace<S>& ws, int r) {
   const ConstraintSparsity& sp = ws.constraint_sparsity;
   for (int s = sp.closure_start[r]; s < sp.closure_start[r + 1]; ++s) ws.constraint_matrix(r, sp.closure[s]) = S(0);
 }
