@@ -121,62 +121,6 @@ def driver_table(module: str, json_name: str, fn: str = "table") -> str:
     return printed(getattr(importlib.import_module(module), fn), path) + source(path)
 
 
-def jacobian_cost():
-    return driver_table("jacobian_cost", "jacobian_cost.json")
-
-
-def articulated_crossover():
-    return driver_table("articulated_crossover", "articulated_crossover.json")
-
-
-def sensitivity_cost():
-    return driver_table("sensitivity_cost", "sensitivity_cost.json")
-
-
-def sensitivity_cost_few():
-    return driver_table("sensitivity_cost", "sensitivity_cost_few.json")
-
-
-def sensitivity_cost_jacobian():
-    return driver_table("sensitivity_cost", "sensitivity_cost_jacobian.json")
-
-
-def sensitivity_cost_few_constrained():
-    return driver_table("sensitivity_cost", "sensitivity_cost_few_constrained.json")
-
-
-def sensitivity_cost_constants():
-    return driver_table("sensitivity_cost", "sensitivity_cost_constants.json")
-
-
-def sensitivity_cost_residual():
-    return driver_table("sensitivity_cost", "sensitivity_cost_residual.json")
-
-
-def sensitivity_cost_dense_lu():
-    return driver_table("sensitivity_cost", "sensitivity_cost_dense_lu.json")
-
-
-def sensitivity_cost_dense_solve():
-    return driver_table("sensitivity_cost", "sensitivity_cost_dense_solve.json")
-
-
-def sensitivity_cost_matrix_ops():
-    return driver_table("sensitivity_cost", "sensitivity_cost_matrix_ops.json")
-
-
-def sensitivity_cost_closed_form():
-    return driver_table("sensitivity_cost", "sensitivity_cost_closed_form.json")
-
-
-def bdf_machinery():
-    return driver_table("bdf_machinery", "bdf_machinery.json")
-
-
-def sensitivity_cost_planar_recursion():
-    return driver_table("sensitivity_cost", "sensitivity_cost_planar_recursion.json")
-
-
 def dense_lu_solve():
     p = RESULTS / "dense_lu_solve.json"
     d = load(p)
@@ -189,100 +133,16 @@ def dense_lu_solve():
             source(p))
 
 
-def jacobian_cost_arch():
-    return driver_table("jacobian_cost", "jacobian_cost_arch.json")
-
-
-def sensitivity_cost_arch():
-    return driver_table("sensitivity_cost", "sensitivity_cost_arch.json")
-
-
-def jacobian_cost_width6():
-    return driver_table("jacobian_cost", "jacobian_cost_width6.json")
-
-
-def sensitivity_cost_width6():
-    return driver_table("sensitivity_cost", "sensitivity_cost_width6.json")
-
-
-def jacobian_cost_gradient():
-    return driver_table("jacobian_cost", "jacobian_cost_gradient.json")
-
-
-def sensitivity_cost_gradient():
-    return driver_table("sensitivity_cost", "sensitivity_cost_gradient.json")
-
-
-def jacobian_cost_current():
-    return driver_table("jacobian_cost", "jacobian_cost_current.json")
-
-
-def sensitivity_cost_current():
-    return driver_table("sensitivity_cost", "sensitivity_cost_current.json")
-
-
 def sensitivity_cost_evaluations():
     return driver_table("sensitivity_cost", "sensitivity_cost_current.json", "evaluations")
-
-
-def sensitivity_cost_stacked():
-    return driver_table("sensitivity_cost", "sensitivity_cost_stacked.json")
-
-
-def sensitivity_cost_after_stacking():
-    return driver_table("sensitivity_cost", "sensitivity_cost_after_stacking.json")
 
 
 def sensitivity_corrector_stacked():
     return driver_table("sensitivity_corrector", "sensitivity_corrector_stacked.json", "stacked_summary")
 
 
-def sensitivity_cost_value_in_pack():
-    return driver_table("sensitivity_cost", "sensitivity_cost_value_in_pack.json")
-
-
-def sensitivity_cost_reciprocal_pivots():
-    return driver_table("sensitivity_cost", "sensitivity_cost_reciprocal_pivots.json")
-
-
-def sensitivity_cost_row_sums():
-    return driver_table("sensitivity_cost", "sensitivity_cost_row_sums.json")
-
-
-def sensitivity_cost_member_copies():
-    return driver_table("sensitivity_cost", "sensitivity_cost_member_copies.json")
-
-
-def sensitivity_cost_fused():
-    return driver_table("sensitivity_cost", "sensitivity_cost_fused.json")
-
-
-def sensitivity_cost_two():
-    return driver_table("sensitivity_cost", "sensitivity_cost_two.json")
-
-
-def sensitivity_cost_control():
-    return driver_table("sensitivity_cost", "sensitivity_cost_control.json")
-
-
-def dop853_step_control():
-    return driver_table("dop853_step_control", "dop853_step_control.json")
-
-
-def sensitivity_cost_vector_ops():
-    return driver_table("sensitivity_cost", "sensitivity_cost_vector_ops.json")
-
-
-def sensitivity_cost_no_error_control():
-    return driver_table("sensitivity_cost", "sensitivity_cost_no_error_control.json")
-
-
 def sensitivity_corrector():
     return driver_table("sensitivity_corrector", "sensitivity_corrector.json", "summary")
-
-
-def multitangent():
-    return driver_table("multitangent_table", "multitangent_kernels.json")
 
 
 def outputs_cost():
@@ -948,34 +808,50 @@ def _ratio_from_cell(cell: str):
     return float(m.group(1).replace(",", "")) if m else None
 
 
+# The tables that are one driver's table() of one JSON file: name → (driver module, JSON file).
+DRIVER_TABLES = {
+    "jacobian_cost": ("jacobian_cost", "jacobian_cost.json"),
+    "articulated_crossover": ("articulated_crossover", "articulated_crossover.json"),
+    "sensitivity_cost": ("sensitivity_cost", "sensitivity_cost.json"),
+    "sensitivity_cost_few": ("sensitivity_cost", "sensitivity_cost_few.json"),
+    "sensitivity_cost_jacobian": ("sensitivity_cost", "sensitivity_cost_jacobian.json"),
+    "sensitivity_cost_few_constrained": ("sensitivity_cost", "sensitivity_cost_few_constrained.json"),
+    "sensitivity_cost_constants": ("sensitivity_cost", "sensitivity_cost_constants.json"),
+    "sensitivity_cost_residual": ("sensitivity_cost", "sensitivity_cost_residual.json"),
+    "sensitivity_cost_dense_lu": ("sensitivity_cost", "sensitivity_cost_dense_lu.json"),
+    "sensitivity_cost_dense_solve": ("sensitivity_cost", "sensitivity_cost_dense_solve.json"),
+    "sensitivity_cost_matrix_ops": ("sensitivity_cost", "sensitivity_cost_matrix_ops.json"),
+    "sensitivity_cost_closed_form": ("sensitivity_cost", "sensitivity_cost_closed_form.json"),
+    "bdf_machinery": ("bdf_machinery", "bdf_machinery.json"),
+    "sensitivity_cost_planar_recursion": ("sensitivity_cost", "sensitivity_cost_planar_recursion.json"),
+    "jacobian_cost_arch": ("jacobian_cost", "jacobian_cost_arch.json"),
+    "sensitivity_cost_arch": ("sensitivity_cost", "sensitivity_cost_arch.json"),
+    "jacobian_cost_width6": ("jacobian_cost", "jacobian_cost_width6.json"),
+    "sensitivity_cost_width6": ("sensitivity_cost", "sensitivity_cost_width6.json"),
+    "jacobian_cost_gradient": ("jacobian_cost", "jacobian_cost_gradient.json"),
+    "sensitivity_cost_gradient": ("sensitivity_cost", "sensitivity_cost_gradient.json"),
+    "jacobian_cost_current": ("jacobian_cost", "jacobian_cost_current.json"),
+    "sensitivity_cost_current": ("sensitivity_cost", "sensitivity_cost_current.json"),
+    "sensitivity_cost_stacked": ("sensitivity_cost", "sensitivity_cost_stacked.json"),
+    "sensitivity_cost_after_stacking": ("sensitivity_cost", "sensitivity_cost_after_stacking.json"),
+    "sensitivity_cost_recorded_passes": ("sensitivity_cost", "sensitivity_cost_recorded_passes.json"),
+    "sensitivity_cost_value_in_pack": ("sensitivity_cost", "sensitivity_cost_value_in_pack.json"),
+    "sensitivity_cost_reciprocal_pivots": ("sensitivity_cost", "sensitivity_cost_reciprocal_pivots.json"),
+    "sensitivity_cost_row_sums": ("sensitivity_cost", "sensitivity_cost_row_sums.json"),
+    "sensitivity_cost_member_copies": ("sensitivity_cost", "sensitivity_cost_member_copies.json"),
+    "sensitivity_cost_fused": ("sensitivity_cost", "sensitivity_cost_fused.json"),
+    "sensitivity_cost_two": ("sensitivity_cost", "sensitivity_cost_two.json"),
+    "sensitivity_cost_control": ("sensitivity_cost", "sensitivity_cost_control.json"),
+    "dop853_step_control": ("dop853_step_control", "dop853_step_control.json"),
+    "sensitivity_cost_vector_ops": ("sensitivity_cost", "sensitivity_cost_vector_ops.json"),
+    "sensitivity_cost_no_error_control": ("sensitivity_cost", "sensitivity_cost_no_error_control.json"),
+    "multitangent": ("multitangent_table", "multitangent_kernels.json"),
+}
+
 TABLES = {
-    "rhs_mujoco": rhs_mujoco, "rhs_paths": rhs_paths, "jacobian_cost": jacobian_cost,
-    "articulated_crossover": articulated_crossover,
-    "sensitivity_cost": sensitivity_cost, "sensitivity_cost_few": sensitivity_cost_few,
-    "sensitivity_cost_few_constrained": sensitivity_cost_few_constrained,
-    "sensitivity_cost_jacobian": sensitivity_cost_jacobian, "jacobian_cost_arch": jacobian_cost_arch,
-    "sensitivity_cost_constants": sensitivity_cost_constants,
-    "sensitivity_cost_residual": sensitivity_cost_residual,
-    "sensitivity_cost_dense_lu": sensitivity_cost_dense_lu,
-    "sensitivity_cost_dense_solve": sensitivity_cost_dense_solve,
-    "bdf_machinery": bdf_machinery,
-    "sensitivity_cost_matrix_ops": sensitivity_cost_matrix_ops,
-    "sensitivity_cost_closed_form": sensitivity_cost_closed_form,
+    "rhs_mujoco": rhs_mujoco, "rhs_paths": rhs_paths,
     "dense_lu_solve": dense_lu_solve,
-    "sensitivity_cost_planar_recursion": sensitivity_cost_planar_recursion,
-    "sensitivity_cost_arch": sensitivity_cost_arch,
-    "jacobian_cost_width6": jacobian_cost_width6, "sensitivity_cost_width6": sensitivity_cost_width6,
-    "jacobian_cost_gradient": jacobian_cost_gradient, "sensitivity_cost_gradient": sensitivity_cost_gradient,
-    "jacobian_cost_current": jacobian_cost_current, "sensitivity_cost_current": sensitivity_cost_current,
-    "sensitivity_cost_member_copies": sensitivity_cost_member_copies,
-    "sensitivity_cost_evaluations": sensitivity_cost_evaluations,
-    "sensitivity_cost_row_sums": sensitivity_cost_row_sums,
-    "sensitivity_cost_reciprocal_pivots": sensitivity_cost_reciprocal_pivots,
-    "sensitivity_cost_value_in_pack": sensitivity_cost_value_in_pack,
-    "sensitivity_cost_stacked": sensitivity_cost_stacked, "sensitivity_corrector_stacked": sensitivity_corrector_stacked,
-    "sensitivity_cost_after_stacking": sensitivity_cost_after_stacking,
-    "sensitivity_cost_fused": sensitivity_cost_fused, "sensitivity_cost_two": sensitivity_cost_two, "dop853_step_control": dop853_step_control, "sensitivity_cost_control": sensitivity_cost_control, "sensitivity_cost_vector_ops": sensitivity_cost_vector_ops, "sensitivity_cost_no_error_control": sensitivity_cost_no_error_control,
-    "multitangent": multitangent, "outputs_cost": outputs_cost,
+    "sensitivity_cost_evaluations": sensitivity_cost_evaluations, "sensitivity_corrector_stacked": sensitivity_corrector_stacked, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,
     "sensitivities": sensitivities_table, "constraints": constraints_table, "ensemble": ensemble_table,
@@ -991,6 +867,7 @@ TABLES = {
     "constraint_drift": constraint_drift, "constraints_choice": constraints_choice, "contact_drift": contact_drift,
     "scaling_sweep": scaling_sweep, "scaling_study": scaling_study,
 }
+TABLES.update({name: (lambda m=m, j=j: driver_table(m, j)) for name, (m, j) in DRIVER_TABLES.items()})
 
 
 def render(text: str, missing: list) -> str:
