@@ -138,7 +138,7 @@ void form_inverse_sized(Content& c) {
 
 template <int... N>
 void form_inverse_dispatch(Content& c, std::integer_sequence<int, N...>) {
-  ((c.n == N + 1 && (form_inverse_sized<N + 1>(c), true)) || ...);
+  (void)((c.n == N + 1 && (form_inverse_sized<N + 1>(c), true)) || ...);
 }
 
 template <int... N>
