@@ -3,6 +3,7 @@
 // dynamics/constraint_solve.cpp.
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 #include "math/dual.hpp"
 #include "math/dual2.hpp"  // the Dual2 instantiations
@@ -250,20 +251,19 @@ void compute_constraints(const Model& m, Workspace<S>& ws, const S* q, const S* 
         else general_velocity(m, ws, c, r0, q, u);
         break;
       case Constraint::Kind::rolling: {
+        auto rows_with_normal = [&](const auto& normal) {
+          std::array<std::decay_t<decltype(normal)>, 3> e;
+          e[2] = normal.normalized();
+          rolling_plane_basis(e[2], e[0], e[1]);
+          rolling_rows(m, ws, c, e);
+        };
         const Vec3<S> n_given = vec3(ws, c.normal);
-        if (!math::has_tangent(n_given[0]) && !math::has_tangent(n_given[1]) && !math::has_tangent(n_given[2])) {
-          // A fixed plane (the usual case): its unit normal and basis on values, so that the rows
-          // are formed with products by plain numbers (half the work on a tangent scalar).
-          std::array<Vec3<double>, 3> e;
-          e[2] = Vec3<double>(value_of(n_given[0]), value_of(n_given[1]), value_of(n_given[2])).normalized();
-          rolling_plane_basis(e[2], e[0], e[1]);
-          rolling_rows(m, ws, c, e);
-        } else {
-          std::array<Vec3<S>, 3> e;
-          e[2] = n_given.normalized();
-          rolling_plane_basis(e[2], e[0], e[1]);
-          rolling_rows(m, ws, c, e);
-        }
+        // A fixed plane (the usual case): its unit normal and basis on values, so that the rows
+        // are formed with products by plain numbers (half the work on a tangent scalar).
+        if (!math::has_tangent(n_given[0]) && !math::has_tangent(n_given[1]) && !math::has_tangent(n_given[2]))
+          rows_with_normal(Vec3<double>(value_of(n_given[0]), value_of(n_given[1]), value_of(n_given[2])));
+        else
+          rows_with_normal(n_given);
         break;
       }
     }

@@ -207,22 +207,6 @@ void cholesky_solve(const S* U, std::ptrdiff_t ldu, int n, S* x) {
   }
 }
 
-// x ← (Uᵀ U)⁻¹ x on double with the reciprocal pivots of cholesky_factor (the same sums; each
-// quotient a product with the reciprocal).
-inline void cholesky_solve(const double* U, std::ptrdiff_t ldu, int n, const double* inverse_pivots, double* x) {
-  for (int i = 0; i < n; ++i) {
-    double s[1];
-    detail::dots<1>(U + i * ldu, x, 0, i, s);
-    x[i] = (x[i] - s[0]) * inverse_pivots[i];
-  }
-  for (int i = n - 1; i >= 0; --i) {
-    const double* Ui = U + i * ldu;
-    const double xi = x[i] * inverse_pivots[i];
-    x[i] = xi;
-    for (int k = 0; k < i; ++k) x[k] -= xi * Ui[k];
-  }
-}
-
 namespace detail {
 // C columns of a column-major X (leading dimension ldx) solved together: each row's C dot
 // products in one sweep of U's column (dots<C>), so the columns' substitutions, each a chain of
@@ -246,6 +230,12 @@ void cholesky_solve_columns(const double* U, std::ptrdiff_t ldu, int n, const do
   }
 }
 }  // namespace detail
+
+// x ← (Uᵀ U)⁻¹ x on double with the reciprocal pivots of cholesky_factor (the same sums; each
+// quotient a product with the reciprocal).
+inline void cholesky_solve(const double* U, std::ptrdiff_t ldu, int n, const double* inverse_pivots, double* x) {
+  detail::cholesky_solve_columns<1>(U, ldu, n, inverse_pivots, x, n);
+}
 
 // X ← (Uᵀ U)⁻¹ X for an n×ncols column-major X (leading dimension ldx), with the reciprocal
 // pivots of cholesky_factor: cholesky_solve's sums for every column (the same bits), up to four

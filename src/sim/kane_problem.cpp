@@ -606,7 +606,11 @@ void KaneProblem::multiplier_sensitivities(double t, const double* y, const doub
     }
     return;
   }
-  if (fused_multiplier_sensitivities(t, y, s, dlambda)) return;
+  if (!fused_multiplier_sensitivities(t, y, s, dlambda)) multiplier_form_sensitivities(t, y, s, dlambda);
+}
+
+void KaneProblem::multiplier_form_sensitivities(double t, const double* y, const double* const* s, double* dlambda) {
+  const int m = model_.nconstraint_rows, ns = num_sensitivities();
   full_state_sensitivity_passes(t, y, s, [&](auto& b, bool ok) {
     for (int r = 0; r < m; ++r)
       for (int i = 0; i < b.count; ++i) dlambda[r * ns + b.first + i] = ok ? b.ws.multipliers[r].d(i) : std::nan("");
@@ -615,12 +619,15 @@ void KaneProblem::multiplier_sensitivities(double t, const double* y, const doub
 
 void KaneProblem::multipliers_and_sensitivities(double t, const double* y, const double* const* s, double* lambda,
                                                 double* dlambda) {
-  if (!single_tangent() && fused_multiplier_sensitivities(t, y, s, dlambda)) {
+  if (single_tangent()) {
+    multipliers(t, y, lambda);
+    multiplier_sensitivities(t, y, s, dlambda);
+  } else if (fused_multiplier_sensitivities(t, y, s, dlambda)) {
     std::copy(jacobian_multipliers_.begin(), jacobian_multipliers_.end(), lambda);  // that pass's own λ
-    return;
+  } else {
+    multipliers(t, y, lambda);
+    multiplier_form_sensitivities(t, y, s, dlambda);
   }
-  multipliers(t, y, lambda);
-  multiplier_sensitivities(t, y, s, dlambda);
 }
 
 // The stacked right-hand side's passes (fused_residual_sensitivities) leave −δλ in each block's

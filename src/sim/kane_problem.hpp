@@ -294,6 +294,8 @@ class KaneProblem final : public OdeProblem {
   // multiplier_sensitivities from the fused residual passes (3-D path, multipliers): false
   // where they do not apply or cannot evaluate (the multiplier form's passes then say which).
   bool fused_multiplier_sensitivities(double t, const double* y, const double* const* s, double* dlambda);
+  // The same from multi-tangent passes of the multiplier form (NaN where λ cannot be computed).
+  void multiplier_form_sensitivities(double t, const double* y, const double* const* s, double* dlambda);
   std::vector<double> recorded_rate_;  // nstate: ẏ of those passes (not needed)
 };
 

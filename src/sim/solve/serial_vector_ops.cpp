@@ -300,31 +300,20 @@ int op_linear_combination_array(int k, int sums, Real* c, N_Vector** X, N_Vector
 // norm of its blocks of Block entries, as CVODES's sensitivity module takes the largest of the
 // state's and the sensitivities' norms with sensitivity error control; the first block's alone
 // without it. The block size is a template argument so that the sums unroll as the plain norm's.
-// Each block's sum in N_VWrmsNorm's order, four blocks side by side (independent chains of
-// additions); one square root, of the largest sum: √(s/Block) is non-decreasing in s and
-// correctly rounded, so it is the largest block's norm to the bit. A NaN in any block wins, as
-// it would in one sum.
+// Each block's sum in N_VWrmsNorm's order; one square root, of the largest sum: √(s/Block) is
+// non-decreasing in s and correctly rounded, so it is the largest block's norm to the bit. A NaN
+// in any block wins, as it would in one sum.
 template <int Block>
 Real op_wrms_norm_blocks(N_Vector x, N_Vector w) {
   const Real *xd = data(x), *wd = data(w);
   const Index n = length(x);
   Real largest = 0;
   bool nan = false;
-  auto take = [&](Real sum) {
+  for (Index b = 0; b + Block <= n; b += Block) {
+    const Real sum = weighted_square_sum(xd + b, wd + b, Block);
     nan |= std::isnan(sum);
     largest = std::max(largest, sum);
-  };
-  Index b = 0;
-  for (; b + 4 * Block <= n; b += 4 * Block) {
-    Real s[4] = {0, 0, 0, 0};
-    for (int k = 0; k < Block; ++k)
-      for (int j = 0; j < 4; ++j) {
-        const Real p = xd[b + j * Block + k] * wd[b + j * Block + k];
-        s[j] += p * p;
-      }
-    for (const Real sum : s) take(sum);
   }
-  for (; b + Block <= n; b += Block) take(weighted_square_sum(xd + b, wd + b, Block));
   if (nan) return std::numeric_limits<Real>::quiet_NaN();
   return std::sqrt(largest / static_cast<Real>(Block));
 }
