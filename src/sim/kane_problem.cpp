@@ -32,11 +32,15 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       residual_value_(static_cast<std::size_t>(model.nu)),
       jacobian_multipliers_(static_cast<std::size_t>(model.nconstraint_rows)),
       fused_constraint_value_(static_cast<std::size_t>(model.nconstraint_rows)),
+      value_out_(static_cast<std::size_t>(model.nstate())),
+      value_constraint_(static_cast<std::size_t>(model.nconstraint_rows)),
       u_full_(static_cast<std::size_t>(model.nu)),
       s_full_(static_cast<std::size_t>(model.nstate())),
       recorded_rate_(static_cast<std::size_t>(model.nstate())) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
   if (!model.evaluate_planar()) sensitivity_method_ = DerivativeMethod::residual;
+  value_rhs_ = !embedded_ && model.nconstraint_rows > 0 && !model.evaluate_planar() &&
+               !workspaces_.values().sparse_constraints;
   if (dynamics::ResidualDerivatives::applies(model)) {
     const std::size_t nu = static_cast<std::size_t>(model.nu);
     closed_form_ = std::make_unique<dynamics::ResidualDerivatives>(model);
@@ -61,6 +65,7 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
 void KaneProblem::set_sample(const SampleInputs& inputs) {
   try {
     failure_.reset();
+    value_rhs_failed_ = false;
     const std::string why = model::check_parameters(model_, inputs.parameters.data());
     if (!why.empty()) throw InputError({}, "parameters", why);
     workspaces_.set_parameters(inputs.parameters);
@@ -171,6 +176,13 @@ std::string KaneProblem::embedding_failure(double t, const char* what) const {
 }
 
 void KaneProblem::rhs(double t, const double* y, double* ydot) {
+  // The multipliers' equations by the value half of the fused pass where it applies. Where it
+  // cannot evaluate (redundant rows, not finite) the general solve decides and says why, and
+  // takes over for the rest of the sample: redundant rows are usually so everywhere.
+  if (value_rhs_ && !value_rhs_failed_) {
+    if (value_pass(workspaces_.values(), t, y, ydot, value_out_.data(), value_constraint_.data())) return;
+    value_rhs_failed_ = true;
+  }
   evaluate(workspaces_.values(), t, y, ydot);
   // A partition that degrades is re-chosen between steps (after_step); one this bad means every
   // partition is (the re-choice keeps the best). A trial point there is rejected (a smaller step
@@ -451,7 +463,7 @@ bool KaneProblem::fused_residual_sensitivities(double t, const double* y, const 
 }
 
 template <class S>
-bool KaneProblem::fused_residual_pass(Workspace<S>& ws, double t, const S* y, double* ydot, S* out, S* c) {
+bool KaneProblem::value_pass(Workspace<S>& ws, double t, const S* y, double* ydot, S* out, S* c) {
   Workspace<double>& wd = jacobian_values_;
   const int nq = model_.nq, nc = model_.nconstraint_rows;
   double* udot = ydot + nq;
@@ -470,8 +482,14 @@ bool KaneProblem::fused_residual_pass(Workspace<S>& ws, double t, const S* y, do
   for (int k = 0; k < model_.nu; ++k) finite = std::isfinite(udot[k]) && finite;
   if (!finite) return false;
   for (int i = 0; i < nq; ++i) ydot[i] = math::value_of(out[i]);
-  dynamics::residual_from_rest(model_, ws, udot, out + nq, c);
-  return solve_residual_tangents(ws, udot, out + nq, c, false);
+  return true;
+}
+
+template <class S>
+bool KaneProblem::fused_residual_pass(Workspace<S>& ws, double t, const S* y, double* ydot, S* out, S* c) {
+  if (!value_pass(ws, t, y, ydot, out, c)) return false;
+  dynamics::residual_from_rest(model_, ws, ydot + model_.nq, out + model_.nq, c);
+  return solve_residual_tangents(ws, ydot + model_.nq, out + model_.nq, c, false);
 }
 
 // f is the value part of the first whole sensitivity pass, or the residual passes' own f.

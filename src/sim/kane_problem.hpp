@@ -83,6 +83,9 @@ class KaneProblem final : public OdeProblem {
   void set_jacobian_method(DerivativeMethod method) { jacobian_method_ = method; }
   // The method the last jacobian() call took.
   DerivativeMethod last_jacobian_method() const { return last_jacobian_method_; }
+  // Whether rhs() takes the value half of the fused residual pass (3-D multipliers with the dense
+  // constraint solve) until it next fails for this sample, rather than the general solve.
+  bool rhs_by_value_pass() const { return value_rhs_ && !value_rhs_failed_; }
   // How the multi-tangent sensitivity right-hand sides (sensitivity_rhs_all,
   // rhs_with_sensitivities) are formed, under the conditions of jacobian()'s residual method
   // (else whole_rhs). The default is residual on the 3-D path, whose whole pass forms and
@@ -279,7 +282,17 @@ class KaneProblem final : public OdeProblem {
   // finiteness is checked). ydot gets f(t, y).
   template <class S>
   bool fused_residual_pass(dynamics::Workspace<S>& ws, double t, const S* y, double* ydot, S* out, S* c);
+  // Its first half: the stages at u̇ = 0 on ws (out, c as there), f (dynamics::forcing_values),
+  // then u̇ and λ (jacobian_multipliers_) on values into ydot. False where the value solve does
+  // not apply (redundant rows) or is not finite.
+  template <class S>
+  bool value_pass(dynamics::Workspace<S>& ws, double t, const S* y, double* ydot, S* out, S* c);
   std::vector<double> fused_constraint_value_;  // m: −b, then scratch of the value solve
+  // rhs() by value_pass on doubles: 3-D multipliers with the dense constraint solve, where it
+  // takes fewer operations than the general one (which handles redundant rows).
+  bool value_rhs_ = false;
+  bool value_rhs_failed_ = false;  // this sample's value_pass could not evaluate once
+  std::vector<double> value_out_, value_constraint_;  // value_pass's out and c (nstate, m)
   bool last_f_from_sensitivity_pass_ = false;
   template <int W>
   void evaluate_block(TangentBlock<W>& b, double t);

@@ -12,6 +12,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 #include <utility>
@@ -354,3 +356,69 @@ TEST(JacobianTimes, CheapUnlessOnlyTheValuesTakeTheArticulatedBodyRecursion) {
   EXPECT_FALSE(KaneProblem(balls, {}).jacobian_times_cheap()) << "the ball chain";
 }
 }  // namespace
+
+// rhs() on the 3-D multipliers path takes the value half of the fused pass (f from the stages
+// at u̇ = 0, then u̇ and λ with M's and A M⁻¹ Aᵀ's factors): it must be the general right-hand
+// side (evaluate_rhs) to round-off — rolling, loop and Baumgarte terms alike. With redundant rows
+// (a rolling constraint given twice: A M⁻¹ Aᵀ singular) it must hand over to the general solve,
+// whose minimum-norm λ it cannot give, with the same bits, for the rest of the sample.
+TEST(ValueRhs, IsTheGeneralRightHandSideAndHandsOverOnRedundantRows) {
+  using F = ConstraintOptions::Formulation;
+  using St = ConstraintOptions::Stabilization;
+  auto forced_3d = [](Model m) {
+    m.force_general_3d = true;
+    return m;
+  };
+  const std::vector<std::pair<std::string, std::pair<Model, ConstraintOptions>>> cases = {
+      {"rolling disc, Baumgarte", {load("configs/rolling_disc.yaml"), with(F::multipliers, St::baumgarte)}},
+      {"rolling disc, projection", {load("configs/rolling_disc.yaml"), with(F::multipliers, St::projection)}},
+      {"whipple bicycle", {load("configs/whipple_bicycle.yaml"), with(F::multipliers, St::projection)}},
+      {"two-wheeler, Baumgarte", {load("configs/two_wheeler.yaml"), with(F::multipliers, St::baumgarte)}},
+      {"four-bar on the 3-D path", {forced_3d(load("configs/four_bar.yaml")), with(F::multipliers, St::baumgarte)}},
+  };
+  std::mt19937 rng(29);
+  for (const auto& [name, c] : cases) {
+    SCOPED_TRACE(name);
+    const Model& m = c.first;
+    KaneProblem p(m, {}, c.second);
+    p.set_sample(SampleInputs(m));
+    EXPECT_TRUE(p.rhs_by_value_pass());
+    Workspace<double> ws(m);
+    const std::vector<double> params = m.nominal_parameters();
+    set_parameters(m, ws, params.data());
+    for (int trial = 0; trial < 3; ++trial) {
+      const std::vector<double> y = test_state(p, rng, 0.05);
+      std::vector<double> ydot(y.size()), general(y.size());
+      p.rhs(0.3, y.data(), ydot.data());
+      ASSERT_TRUE(evaluate_rhs(m, ws, 0.3, y.data(), general.data(), p.dynamics_options()));
+      double err = 0;
+      for (std::size_t k = 0; k < y.size(); ++k) err = std::max(err, std::abs(ydot[k] - general[k]));
+      EXPECT_LT(err / std::max(1.0, max_abs(general)), 1e-12);
+      EXPECT_TRUE(p.rhs_by_value_pass());
+      std::printf("%s: rhs vs general %.2e\n", name.c_str(), err / std::max(1.0, max_abs(general)));
+    }
+  }
+  {
+    SCOPED_TRACE("redundant rows");
+    std::ifstream file(std::string(KANESENS_SOURCE_DIR) + "/configs/rolling_disc.yaml");
+    std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    const std::string row = "    - {name: contact, type: rolling, body: disc, radius: r, axis: [0, 1, 0], normal: [0, 0, 1]}\n";
+    ASSERT_NE(text.find(row), std::string::npos);
+    text += "    - {name: again, type: rolling, body: disc, radius: r, axis: [0, 1, 0], normal: [0, 0, 1]}\n";
+    const Model m = build_model(parse_scene_text(text, "twice.yaml"));
+    KaneProblem p(m, {}, with(F::multipliers, St::baumgarte));
+    p.set_sample(SampleInputs(m));
+    EXPECT_TRUE(p.rhs_by_value_pass());
+    Workspace<double> ws(m);
+    const std::vector<double> params = m.nominal_parameters();
+    set_parameters(m, ws, params.data());
+    const std::vector<double> y = test_state(p, rng, 0.05);
+    std::vector<double> ydot(y.size()), general(y.size());
+    p.rhs(0.3, y.data(), ydot.data());
+    EXPECT_FALSE(p.rhs_by_value_pass());
+    ASSERT_TRUE(evaluate_rhs(m, ws, 0.3, y.data(), general.data(), p.dynamics_options()));
+    EXPECT_EQ(ydot, general);
+    p.set_sample(SampleInputs(m));
+    EXPECT_TRUE(p.rhs_by_value_pass());
+  }
+}
