@@ -52,15 +52,20 @@ void multiplier_sensitivity(const Model& m, DualWorkspace& ws, const DynamicsOpt
 void constraint_residuals(const Model& m, Workspace<double>& ws, const DynamicsOptions& options,
                           const std::vector<int>& holonomic_rows, double t, const double* y, double& position,
                           double& velocity) {
-  std::vector<double> ydot(static_cast<std::size_t>(m.nstate()));
-  if (!dynamics::evaluate_rhs(m, ws, t, y, ydot.data(), options)) {
-    position = velocity = std::nan("");
-    return;
-  }
+  // The constraints' own stages (positions, velocities, the rows): no mass matrix, no solve.
+  dynamics::evaluate_constraints(m, ws, t, y, y + m.nq, options);
   position = 0;
   velocity = 0;
-  for (int r : holonomic_rows) position = std::max(position, std::abs(ws.position_residual[r]));
-  for (int r = 0; r < m.nconstraint_rows; ++r) velocity = std::max(velocity, std::abs(ws.velocity_residual[r]));
+  bool finite = true;
+  for (int r : holonomic_rows) {
+    finite = std::isfinite(ws.position_residual[r]) && finite;
+    position = std::max(position, std::abs(ws.position_residual[r]));
+  }
+  for (int r = 0; r < m.nconstraint_rows; ++r) {
+    finite = std::isfinite(ws.velocity_residual[r]) && finite;
+    velocity = std::max(velocity, std::abs(ws.velocity_residual[r]));
+  }
+  if (!finite) position = velocity = std::nan("");  // std::max would drop a NaN
 }
 
 void sensitivity_constraint_residuals(const Model& m, DualWorkspace& ws, const DynamicsOptions& options,

@@ -21,7 +21,7 @@ void multipliers(const model::Model& m, dynamics::Workspace<double>& ws, const d
 // dλ/dε (m) along (s, the workspace's parameter tangent): one dual evaluation.
 void multiplier_sensitivity(const model::Model& m, DualWorkspace& ws, const dynamics::DynamicsOptions& options,
                             double t, const double* y, const double* s, double* dlambda);
-// max |g| over the holonomic rows, max |A u + a0| over all rows.
+// max |g| over the holonomic rows, max |A u + a0| over all rows (NaN if any is not finite).
 void constraint_residuals(const model::Model& m, dynamics::Workspace<double>& ws,
                           const dynamics::DynamicsOptions& options, const std::vector<int>& holonomic_rows, double t,
                           const double* y, double& position, double& velocity);
