@@ -835,6 +835,7 @@ DRIVER_TABLES = {
     "sensitivity_cost_stacked": ("sensitivity_cost", "sensitivity_cost_stacked.json"),
     "sensitivity_cost_after_stacking": ("sensitivity_cost", "sensitivity_cost_after_stacking.json"),
     "sensitivity_cost_recorded_passes": ("sensitivity_cost", "sensitivity_cost_recorded_passes.json"),
+    "sensitivity_cost_value_rhs": ("sensitivity_cost", "sensitivity_cost_value_rhs.json"),
     "sensitivity_cost_value_in_pack": ("sensitivity_cost", "sensitivity_cost_value_in_pack.json"),
     "sensitivity_cost_reciprocal_pivots": ("sensitivity_cost", "sensitivity_cost_reciprocal_pivots.json"),
     "sensitivity_cost_row_sums": ("sensitivity_cost", "sensitivity_cost_row_sums.json"),
