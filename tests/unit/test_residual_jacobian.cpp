@@ -359,9 +359,10 @@ TEST(JacobianTimes, CheapUnlessOnlyTheValuesTakeTheArticulatedBodyRecursion) {
 
 // rhs() on the 3-D multipliers path takes the value half of the fused pass (f from the stages
 // at u̇ = 0, then u̇ and λ with M's and A M⁻¹ Aᵀ's factors): it must be the general right-hand
-// side (evaluate_rhs) to round-off — rolling, loop and Baumgarte terms alike. With redundant rows
-// (a rolling constraint given twice: A M⁻¹ Aᵀ singular) it must hand over to the general solve,
-// whose minimum-norm λ it cannot give, with the same bits, for the rest of the sample.
+// side (evaluate_rhs) to round-off — rolling, loop, general and Baumgarte terms alike. With
+// redundant rows (a rolling constraint given twice: A M⁻¹ Aᵀ singular) it must hand over to the
+// general solve, whose minimum-norm λ it cannot give, with the same bits, for the rest of the
+// sample.
 TEST(ValueRhs, IsTheGeneralRightHandSideAndHandsOverOnRedundantRows) {
   using F = ConstraintOptions::Formulation;
   using St = ConstraintOptions::Stabilization;
@@ -375,6 +376,10 @@ TEST(ValueRhs, IsTheGeneralRightHandSideAndHandsOverOnRedundantRows) {
       {"whipple bicycle", {load("configs/whipple_bicycle.yaml"), with(F::multipliers, St::projection)}},
       {"two-wheeler, Baumgarte", {load("configs/two_wheeler.yaml"), with(F::multipliers, St::baumgarte)}},
       {"four-bar on the 3-D path", {forced_3d(load("configs/four_bar.yaml")), with(F::multipliers, St::baumgarte)}},
+      {"knife edge (general velocity row) on the 3-D path",
+       {forced_3d(load("configs/knife_edge.yaml")), with(F::multipliers, St::baumgarte)}},
+      {"Andrews (general position rows) on the 3-D path",
+       {forced_3d(load("configs/andrews.yaml")), with(F::multipliers, St::baumgarte)}},
   };
   std::mt19937 rng(29);
   for (const auto& [name, c] : cases) {
