@@ -60,9 +60,11 @@ def test_andrews_recomputed_column_is_reproduced(andrews):
     y, g_end = mod.end_state(mod.model(), 1e-13)
     stored = np.array([float(r[4]) for r in rows])
     rel = np.abs(y - stored) / np.abs(stored)
-    # Same script, same arithmetic: identical up to library round-off; the column's own accuracy
-    # (against a run at rtol 1e-12) is ~1e-11 relative, so 1e-12 still catches a stale file.
-    assert rel.max() < 1e-12, rel
+    # Same script: identical up to library round-off, which differs between processors (NumPy's
+    # and OpenBLAS's kernels are chosen by the instruction set) by up to about 1e-11 relative in
+    # the velocities and accelerations. A column made at rtol 1e-12 instead of 1e-13 differs by
+    # 5e-11, so 2e-11 still catches a stale file.
+    assert rel.max() < 2e-11, rel
     assert g_end < 1e-13
 
 
