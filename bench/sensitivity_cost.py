@@ -26,7 +26,7 @@ import subprocess
 import sys
 import tempfile
 
-from common import chain_scene_yaml, load_json, table_or_usage
+from common import chain_scene_yaml, load_json, provenance, table_or_usage
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 
@@ -110,9 +110,17 @@ def run(exe, study, method, sens, extra, repeat=1):
     return d["stats"]["wall_seconds"], d["stats"]
 
 
+def instruction_set(exe):
+    """The `instruction set` line of `EXE --version`: the figures depend on the vector width the
+    build uses (the tangents of a multi-tangent pass travel in SIMD packs)."""
+    out = subprocess.run([exe, "--version"], capture_output=True, text=True).stdout
+    return next((line.split("instruction set", 1)[1].strip() for line in out.splitlines() if "instruction set" in line), "?")
+
+
 def measure(out, exes, runs, scenes, extra, methods_only=None, counts=None, repeat=1):
     result = {"command": "/usr/bin/python3 bench/sensitivity_cost.py " + " ".join(sys.argv[1:]), "runs": runs,
-              "repeat": repeat, "rows": []}
+              "repeat": repeat, "machine": provenance(), "builds": {label: instruction_set(exe) for label, exe in exes},
+              "rows": []}
     with tempfile.TemporaryDirectory() as tmp:
         for name, study, all_sens, methods in studies(tmp, scenes):
             for method, ns in [(m, k) for m in methods if not methods_only or m in methods_only
@@ -146,8 +154,11 @@ def table(path):
     r = load_json(path)
     steady = (f", each the median of {r['repeat'] - 1} repeated solves after the first in one process"
               if r.get("repeat", 1) > 1 else "")
+    machine = r.get("machine")
+    where = (f" On {machine['cpu']} ({machine['nproc']} cores), "
+             + ", ".join(f"{label}: {isa}" for label, isa in r["builds"].items()) + "." if machine else "")
     print(f"Minimum (median) of {r['runs']} interleaved runs{steady}; per added sensitivity = "
-          "(t_sens − t_plain) / (Ns · t_plain).\n")
+          f"(t_sens − t_plain) / (Ns · t_plain).{where}\n")
     print("| scene | method | build | Ns | plain solve (ms) | with Ns sensitivities (ms) | per added sensitivity | steps plain / sens |")
     print("|---|---|---|---:|---:|---:|---:|---:|")
     for row in r["rows"]:
