@@ -850,6 +850,7 @@ DRIVER_TABLES = {
     "sensitivity_cost_vector_ops": ("sensitivity_cost", "sensitivity_cost_vector_ops.json"),
     "sensitivity_cost_no_error_control": ("sensitivity_cost", "sensitivity_cost_no_error_control.json"),
     "multitangent": ("multitangent_table", "multitangent_kernels.json"),
+    "multitangent_avx2": ("multitangent_table", "multitangent_kernels_avx2.json"),
 }
 
 TABLES = {

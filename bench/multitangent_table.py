@@ -15,6 +15,8 @@ import subprocess
 import sys
 import tempfile
 
+from common import provenance
+
 KERNELS = ["rotation", "inertia", "cholesky", "sincos"]
 TYPES = ["MultiDual", "ceres::Jet", "Eigen::AutoDiffScalar"]
 WIDTHS = [1, 2, 4, 6, 8, 16]
@@ -50,7 +52,8 @@ def rows():
 
 
 def measure(exe, out):
-    result = {"instructions_per_call": {}, "wall_ns_median": {}}
+    result = {"command": provenance()["command"], "machine": provenance(), "instructions_per_call": {},
+              "wall_ns_median": {}}
     for k, t, n in rows():
         key = f"{k}/{t}/{n}"
         result["instructions_per_call"][key] = per_call(exe, k, t, n)
