@@ -52,8 +52,8 @@ def rows():
 
 
 def measure(exe, out):
-    result = {"command": provenance()["command"], "machine": provenance(), "instructions_per_call": {},
-              "wall_ns_median": {}}
+    machine = provenance()
+    result = {"command": machine["command"], "machine": machine, "instructions_per_call": {}, "wall_ns_median": {}}
     for k, t, n in rows():
         key = f"{k}/{t}/{n}"
         result["instructions_per_call"][key] = per_call(exe, k, t, n)
