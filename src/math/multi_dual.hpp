@@ -6,10 +6,10 @@
 // derivatives of general constraints.
 //
 // Why hand-written (bench/multitangent_kernels.cpp measures it against ceres::Jet and Eigen's
-// AutoDiffScalar): the tangents are stored as SIMD packs (with the value in the same register
-// when it fits), and every operation is forced inline, so the compiler keeps them in vector
-// registers and never reloads a pack from two scalar stores (a stalled store-to-load forward);
-// the library types lose 2-10x at N ≥ 4 to exactly that.
+// AutoDiffScalar): the tangents are stored as SIMD packs (with the value in the first one when
+// that takes no pack more), and every operation is forced inline, so the compiler keeps them in
+// vector registers and never reloads a pack from two scalar stores (a stalled store-to-load
+// forward); the library types lose 2-10x at N ≥ 4 to exactly that.
 // Eigen is told the operations are expensive so that it keeps its reductions as loops (unrolled
 // reductions call Eigen's functors out of line).
 #pragma once
@@ -17,7 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#if defined(__AVX512F__) || defined(__FMA__)
+#if defined(__AVX__)
 #include <immintrin.h>
 #endif
 
@@ -55,10 +55,16 @@ inline constexpr int register_lanes = 4;
 inline constexpr int register_lanes = 2;
 #endif
 constexpr int multi_dual_lanes(int n) { return std::min(register_lanes, n <= 2 ? 2 : n <= 4 ? 4 : 8); }
-// With AVX-512 and at most 7 tangents the value rides in lane 0 of the tangents' register: an
-// operation is then one vector operation per step (masked where the value's rule differs from
-// the tangents'), not a vector one and a scalar one competing for the same units.
-constexpr bool multi_dual_value_in_pack(int n) { return multi_dual_lanes(n) == 8 && n < 8; }
+// The value rides in lane 0 of the first pack where that takes no pack more: with AVX-512 for at
+// most 7 tangents (one register), with AVX where N + 1 lanes fill as many 4-lane packs as N do (3,
+// 5, 6, 7, 10, 11, … tangents). An operation is then one vector operation per pack (masked or
+// blended where the value's rule differs from the tangents'), not vector ones and a scalar one
+// competing for the same units, and a number occupies one register fewer.
+constexpr bool multi_dual_value_in_pack(int n) {
+  const int lanes = multi_dual_lanes(n);
+  if (lanes == 8) return n < 8;
+  return lanes == 4 && (n + lanes) / lanes == (n + lanes - 1) / lanes;
+}
 
 // The members of MultiDual<N>. 8-byte aligned so that the struct has no padding (GCC copies
 // padding through the stack, which stalls the next load of the value).
@@ -69,15 +75,19 @@ struct MultiDualStorage {
   Pack t[packs];  // tangents: t[k] holds d_{lanes·k} … d_{lanes·k + lanes − 1}
   double v;       // value
 };
-// One 64-byte register's worth, aligned to it (no larger for that) so that no load of a number
-// spans two cache lines.
+// N + 1 lanes, aligned to a cache line where they fill whole lines (to a pack otherwise, so that
+// the struct is no larger) so that no load of a pack spans two cache lines.
+constexpr int value_in_pack_alignment(int n, int lanes) {
+  const int bytes = (n + lanes) / lanes * lanes * 8;
+  return bytes % 64 == 0 ? 64 : lanes * 8;
+}
 template <int N, int Lanes>
-struct alignas(64) MultiDualStorage<N, Lanes, true> {
+struct alignas(value_in_pack_alignment(N, Lanes)) MultiDualStorage<N, Lanes, true> {
   using Pack = typename PackOf<Lanes>::type;
-  static constexpr int packs = 1;
+  static constexpr int packs = (N + Lanes) / Lanes;
   union {
-    Pack p;    // lane 0 the value, lanes 1 … N the tangents, the rest 0
-    double v;  // the value: lane 0 of p
+    Pack t[packs];  // lane 0 of t[0] the value, the next N lanes the tangents, the rest 0
+    double v;       // the value: lane 0 of t[0]
   };
 };
 
@@ -100,43 +110,91 @@ KANESENS_MD_INLINE Pack multiply_add(double s, Pack b, Pack c) {
 #endif
 }
 
+#if defined(__AVX__)
+// The value's lane (lane 0 of the first pack) apart from the tangents': AVX-512's masked
+// operations on a 64-byte pack, blends on a 32-byte one.
+// Lane 0 (the value) a, the other lanes (tangents) from b.
+template <class Pack>
+KANESENS_MD_INLINE Pack value_then_tangents(double a, Pack b) {
 #if defined(__AVX512F__)
+  if constexpr (sizeof(Pack) == 64)
+    return reinterpret_cast<Pack>(
+        _mm512_mask_mov_pd(reinterpret_cast<__m512d>(b), 1, reinterpret_cast<__m512d>(Pack{a})));
+  else
+#endif
+    return reinterpret_cast<Pack>(_mm256_blend_pd(reinterpret_cast<__m256d>(b), _mm256_set1_pd(a), 1));
+}
+// Lane 0 from a, the others from b (32-byte packs).
+template <class Pack>
+KANESENS_MD_INLINE Pack first_lane_from(Pack a, Pack b) {
+  return reinterpret_cast<Pack>(
+      _mm256_blend_pd(reinterpret_cast<__m256d>(b), reinterpret_cast<__m256d>(a), 1));
+}
+// Lane 0 x, the others 0. On 32-byte packs as a broadcast and a mask rather than the zero-extending
+// move GCC would pick (vmovq from a high register, an encoding that Debian's valgrind does not
+// decode, so that callgrind could not run the program).
+template <class Pack>
+KANESENS_MD_INLINE Pack value_lane(double x) {
+  if constexpr (sizeof(Pack) == 32) {
+    const __m256d first = _mm256_castsi256_pd(_mm256_set_epi64x(0, 0, 0, -1));
+    return reinterpret_cast<Pack>(_mm256_and_pd(_mm256_set1_pd(x), first));
+  } else {
+    return Pack{x};
+  }
+}
 // multiply_add on the tangents' lanes, c on the value's.
 template <class Pack>
 KANESENS_MD_INLINE Pack multiply_add_to_tangents(double s, Pack b, Pack c) {
-  return reinterpret_cast<Pack>(
-      _mm512_mask3_fmadd_pd(_mm512_set1_pd(s), reinterpret_cast<__m512d>(b), reinterpret_cast<__m512d>(c), 0xFE));
-}
-// Lane 0 (the value) from a, lanes 1 … 7 (the tangents) from b.
-template <class Pack>
-KANESENS_MD_INLINE Pack value_then_tangents(Pack a, Pack b) {
-  return reinterpret_cast<Pack>(_mm512_mask_mov_pd(reinterpret_cast<__m512d>(b), 1, reinterpret_cast<__m512d>(a)));
+#if defined(__AVX512F__)
+  if constexpr (sizeof(Pack) == 64)
+    return reinterpret_cast<Pack>(_mm512_mask3_fmadd_pd(_mm512_set1_pd(s), reinterpret_cast<__m512d>(b),
+                                                        reinterpret_cast<__m512d>(c), 0xFE));
+  else
+#endif
+    return first_lane_from(c, multiply_add(s, b, c));
 }
 // a + b on the tangents' lanes, a on the value's.
 template <class Pack>
 KANESENS_MD_INLINE Pack add_to_tangents(Pack a, Pack b) {
-  const __m512d x = reinterpret_cast<__m512d>(a);
-  return reinterpret_cast<Pack>(_mm512_mask_add_pd(x, 0xFE, x, reinterpret_cast<__m512d>(b)));
+#if defined(__AVX512F__)
+  if constexpr (sizeof(Pack) == 64) {
+    const __m512d x = reinterpret_cast<__m512d>(a);
+    return reinterpret_cast<Pack>(_mm512_mask_add_pd(x, 0xFE, x, reinterpret_cast<__m512d>(b)));
+  } else
+#endif
+    return first_lane_from(a, a + b);
 }
 // a − b on the tangents' lanes, a on the value's.
 template <class Pack>
 KANESENS_MD_INLINE Pack subtract_from_tangents(Pack a, Pack b) {
-  const __m512d x = reinterpret_cast<__m512d>(a);
-  return reinterpret_cast<Pack>(_mm512_mask_sub_pd(x, 0xFE, x, reinterpret_cast<__m512d>(b)));
+#if defined(__AVX512F__)
+  if constexpr (sizeof(Pack) == 64) {
+    const __m512d x = reinterpret_cast<__m512d>(a);
+    return reinterpret_cast<Pack>(_mm512_mask_sub_pd(x, 0xFE, x, reinterpret_cast<__m512d>(b)));
+  } else
+#endif
+    return first_lane_from(a, a - b);
 }
 // a + s on the value's lane, a on the tangents'.
 template <class Pack>
 KANESENS_MD_INLINE Pack add_to_value(Pack a, double s) {
-  const __m512d x = reinterpret_cast<__m512d>(a);
-  return reinterpret_cast<Pack>(_mm512_mask_add_pd(x, 1, x, _mm512_set1_pd(s)));
+#if defined(__AVX512F__)
+  if constexpr (sizeof(Pack) == 64) {
+    const __m512d x = reinterpret_cast<__m512d>(a);
+    return reinterpret_cast<Pack>(_mm512_mask_add_pd(x, 1, x, _mm512_set1_pd(s)));
+  } else
+#endif
+    return value_then_tangents(a[0] + s, a);
 }
 #else
-// The value rides in the pack only with AVX-512: elsewhere these are only named, in discarded
-// branches, and need no definition.
+// The value rides in a pack only with AVX or AVX-512: elsewhere these are only named, in
+// discarded branches, and need no definition.
 template <class Pack>
 Pack multiply_add_to_tangents(double s, Pack b, Pack c);
 template <class Pack>
-Pack value_then_tangents(Pack a, Pack b);
+Pack value_then_tangents(double a, Pack b);
+template <class Pack>
+Pack value_lane(double x);
 template <class Pack>
 Pack add_to_tangents(Pack a, Pack b);
 template <class Pack>
@@ -157,6 +215,7 @@ struct MultiDual : detail::MultiDualStorage<N, detail::multi_dual_lanes(N), deta
   static constexpr bool value_in_pack = detail::multi_dual_value_in_pack(N);
   static constexpr int tangents = N;
   static constexpr int packs = Storage::packs;
+  static constexpr int first_tangent_pack = value_in_pack ? 1 : 0;  // the first without the value
 
   // Default construction leaves the members uninitialised, as for double (Eigen
   // default-constructs its fixed-size temporaries; zero-filling them cost more than the
@@ -164,7 +223,8 @@ struct MultiDual : detail::MultiDualStorage<N, detail::multi_dual_lanes(N), deta
   MultiDual() = default;
   KANESENS_MD_INLINE constexpr MultiDual(double value) {  // NOLINT: implicit from constants is intended
     if constexpr (value_in_pack) {
-      this->p = Pack{value};
+      this->t[0] = detail::value_lane<Pack>(value);
+      for (int k = 1; k < packs; ++k) this->t[k] = Pack{};
     } else {
       for (int k = 0; k < packs; ++k) this->t[k] = Pack{};
       v = value;
@@ -175,47 +235,38 @@ struct MultiDual : detail::MultiDualStorage<N, detail::multi_dual_lanes(N), deta
   // just made and stall (no store-to-load forwarding).
   KANESENS_MD_INLINE MultiDual(const MultiDual& o) { *this = o; }
   KANESENS_MD_INLINE MultiDual& operator=(const MultiDual& o) {
-    if constexpr (value_in_pack) {
-      this->p = o.p;
-    } else {
-      for (int k = 0; k < packs; ++k) this->t[k] = o.t[k];
-      v = o.v;
-    }
+    for (int k = 0; k < packs; ++k) this->t[k] = o.t[k];
+    if constexpr (!value_in_pack) v = o.v;
     return *this;
   }
 
   KANESENS_MD_INLINE double d(int i) const {
-    if constexpr (value_in_pack) return this->p[i + 1];
+    if constexpr (value_in_pack) return this->t[(i + 1) / lanes][(i + 1) % lanes];
     else return this->t[i / lanes][i % lanes];
   }
   KANESENS_MD_INLINE void set_d(int i, double x) {
-    if constexpr (value_in_pack) this->p[i + 1] = x;
+    if constexpr (value_in_pack) this->t[(i + 1) / lanes][(i + 1) % lanes] = x;
     else this->t[i / lanes][i % lanes] = x;
   }
   // Tangent i = tangent_i(i) for i < count ≤ N, the rest 0; written a pack at a time (a pack
   // assembled from two scalar stores would stall its next vector load).
   template <class F>
   KANESENS_MD_INLINE void set_tangents(F&& tangent_i, int count) {
-    if constexpr (value_in_pack) {
-      Pack q = {v};
-      for (int i = 0; i < N; ++i) q[i + 1] = i < count ? tangent_i(i) : 0.0;
-      this->p = q;
-    } else {
-      for (int k = 0; k < packs; ++k) {
-        Pack q = {};
-        for (int l = 0; l < lanes; ++l) {
-          const int i = lanes * k + l;
-          q[l] = i < count ? tangent_i(i) : 0.0;
-        }
-        this->t[k] = q;
+    const double value = v;
+    constexpr int first = value_in_pack ? 1 : 0;  // the lane of tangent 0
+    for (int k = 0; k < packs; ++k) {
+      Pack q = {};
+      for (int l = 0; l < lanes; ++l) {
+        const int i = lanes * k + l - first;
+        q[l] = i < 0 ? value : i < count ? tangent_i(i) : 0.0;
       }
+      this->t[k] = q;
     }
   }
   // Tangents −= a's tangents · s (the tangent right-hand sides of a reused factorisation).
   KANESENS_MD_INLINE void subtract_tangents(const MultiDual& a, double s) {
-    if constexpr (value_in_pack) this->p = detail::subtract_from_tangents(this->p, a.p * s);
-    else
-      for (int k = 0; k < packs; ++k) this->t[k] -= a.t[k] * s;
+    if constexpr (value_in_pack) this->t[0] = detail::subtract_from_tangents(this->t[0], a.t[0] * s);
+    for (int k = first_tangent_pack; k < packs; ++k) this->t[k] -= a.t[k] * s;
   }
   // Value with tangent 1 in direction i and 0 in the others (seeding an input).
   static MultiDual seeded(double value, int i) {
@@ -225,61 +276,47 @@ struct MultiDual : detail::MultiDualStorage<N, detail::multi_dual_lanes(N), deta
   }
 
   KANESENS_MD_INLINE MultiDual& operator+=(const MultiDual& o) {
-    if constexpr (value_in_pack) {
-      this->p += o.p;
-    } else {
-      v += o.v;
-      for (int k = 0; k < packs; ++k) this->t[k] += o.t[k];
-    }
+    if constexpr (!value_in_pack) v += o.v;
+    for (int k = 0; k < packs; ++k) this->t[k] += o.t[k];
     return *this;
   }
   KANESENS_MD_INLINE MultiDual& operator-=(const MultiDual& o) {
-    if constexpr (value_in_pack) {
-      this->p -= o.p;
-    } else {
-      v -= o.v;
-      for (int k = 0; k < packs; ++k) this->t[k] -= o.t[k];
-    }
+    if constexpr (!value_in_pack) v -= o.v;
+    for (int k = 0; k < packs; ++k) this->t[k] -= o.t[k];
     return *this;
   }
   // (a b)' = a' b + a b': the first product's lane 0 is the value a b.
   KANESENS_MD_INLINE MultiDual& operator*=(const MultiDual& o) {
-    if constexpr (value_in_pack) {
-      this->p = detail::multiply_add_to_tangents(v, o.p, this->p * o.v);
-    } else {
-      for (int k = 0; k < packs; ++k) this->t[k] = detail::multiply_add(v, o.t[k], this->t[k] * o.v);
-      v *= o.v;
-    }
+    const double a = v, b = o.v;
+    if constexpr (value_in_pack)
+      this->t[0] = detail::multiply_add_to_tangents(a, o.t[0], this->t[0] * b);
+    for (int k = first_tangent_pack; k < packs; ++k)
+      this->t[k] = detail::multiply_add(a, o.t[k], this->t[k] * b);
+    if constexpr (!value_in_pack) v = a * b;
     return *this;
   }
   KANESENS_MD_INLINE MultiDual& operator/=(const MultiDual& o) {
     const double inv = 1.0 / o.v;
     const double q = v * inv;
-    if constexpr (value_in_pack) {
-      this->p = detail::value_then_tangents(Pack{q}, (this->p - q * o.p) * inv);
-    } else {
-      v = q;
-      for (int k = 0; k < packs; ++k) this->t[k] = (this->t[k] - q * o.t[k]) * inv;
-    }
+    if constexpr (value_in_pack)
+      this->t[0] = detail::value_then_tangents(q, (this->t[0] - q * o.t[0]) * inv);
+    for (int k = first_tangent_pack; k < packs; ++k) this->t[k] = (this->t[k] - q * o.t[k]) * inv;
+    if constexpr (!value_in_pack) v = q;
     return *this;
   }
   KANESENS_MD_INLINE MultiDual& operator+=(double s) {
-    if constexpr (value_in_pack) this->p = detail::add_to_value(this->p, s);
+    if constexpr (value_in_pack) this->t[0] = detail::add_to_value(this->t[0], s);
     else v += s;
     return *this;
   }
   KANESENS_MD_INLINE MultiDual& operator-=(double s) {
-    if constexpr (value_in_pack) this->p = detail::add_to_value(this->p, -s);
+    if constexpr (value_in_pack) this->t[0] = detail::add_to_value(this->t[0], -s);
     else v -= s;
     return *this;
   }
   KANESENS_MD_INLINE MultiDual& operator*=(double s) {
-    if constexpr (value_in_pack) {
-      this->p *= s;
-    } else {
-      v *= s;
-      for (int k = 0; k < packs; ++k) this->t[k] *= s;
-    }
+    if constexpr (!value_in_pack) v *= s;
+    for (int k = 0; k < packs; ++k) this->t[k] *= s;
     return *this;
   }
   KANESENS_MD_INLINE MultiDual& operator/=(double s) { return *this *= (1.0 / s); }
@@ -290,12 +327,11 @@ template <int N> KANESENS_MD_INLINE MultiDual<N> operator-(MultiDual<N> a, const
 template <int N>
 KANESENS_MD_INLINE MultiDual<N> operator*(const MultiDual<N>& a, const MultiDual<N>& b) {
   MultiDual<N> r;  // every member is written below
-  if constexpr (MultiDual<N>::value_in_pack) {
-    r.p = detail::multiply_add_to_tangents(a.v, b.p, a.p * b.v);
-  } else {
-    r.v = a.v * b.v;
-    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = detail::multiply_add(a.v, b.t[k], a.t[k] * b.v);
-  }
+  if constexpr (MultiDual<N>::value_in_pack)
+    r.t[0] = detail::multiply_add_to_tangents(a.v, b.t[0], a.t[0] * b.v);
+  for (int k = MultiDual<N>::first_tangent_pack; k < MultiDual<N>::packs; ++k)
+    r.t[k] = detail::multiply_add(a.v, b.t[k], a.t[k] * b.v);
+  if constexpr (!MultiDual<N>::value_in_pack) r.v = a.v * b.v;
   return r;
 }
 template <int N> KANESENS_MD_INLINE MultiDual<N> operator/(MultiDual<N> a, const MultiDual<N>& b) { return a /= b; }
@@ -305,12 +341,9 @@ template <int N> KANESENS_MD_INLINE MultiDual<N> operator-(MultiDual<N> a, doubl
 template <int N>
 KANESENS_MD_INLINE MultiDual<N> operator-(double a, const MultiDual<N>& b) {
   MultiDual<N> r;
-  if constexpr (MultiDual<N>::value_in_pack) {
-    r.p = detail::value_then_tangents(typename MultiDual<N>::Pack{a - b.v}, -b.p);
-  } else {
-    r.v = a - b.v;
-    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = -b.t[k];
-  }
+  if constexpr (MultiDual<N>::value_in_pack) r.t[0] = detail::value_then_tangents(a - b.v, -b.t[0]);
+  for (int k = MultiDual<N>::first_tangent_pack; k < MultiDual<N>::packs; ++k) r.t[k] = -b.t[k];
+  if constexpr (!MultiDual<N>::value_in_pack) r.v = a - b.v;
   return r;
 }
 template <int N> KANESENS_MD_INLINE MultiDual<N> operator*(MultiDual<N> a, double b) { return a *= b; }
@@ -322,23 +355,16 @@ KANESENS_MD_INLINE MultiDual<N> operator/(double a, const MultiDual<N>& b) {
   const double inv = 1.0 / b.v;
   const double q = a * inv;
   const double k = -q * inv;
-  if constexpr (MultiDual<N>::value_in_pack) {
-    r.p = detail::value_then_tangents(typename MultiDual<N>::Pack{q}, k * b.p);
-  } else {
-    r.v = q;
-    for (int i = 0; i < MultiDual<N>::packs; ++i) r.t[i] = k * b.t[i];
-  }
+  if constexpr (MultiDual<N>::value_in_pack) r.t[0] = detail::value_then_tangents(q, k * b.t[0]);
+  for (int i = MultiDual<N>::first_tangent_pack; i < MultiDual<N>::packs; ++i) r.t[i] = k * b.t[i];
+  if constexpr (!MultiDual<N>::value_in_pack) r.v = q;
   return r;
 }
 template <int N>
 KANESENS_MD_INLINE MultiDual<N> operator-(const MultiDual<N>& a) {
   MultiDual<N> r;
-  if constexpr (MultiDual<N>::value_in_pack) {
-    r.p = -a.p;
-  } else {
-    r.v = -a.v;
-    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = -a.t[k];
-  }
+  for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = -a.t[k];
+  if constexpr (!MultiDual<N>::value_in_pack) r.v = -a.v;
   return r;
 }
 template <int N> KANESENS_MD_INLINE MultiDual<N> operator+(const MultiDual<N>& a) { return a; }
@@ -362,12 +388,9 @@ namespace multi_dual_detail {
 template <int N>
 KANESENS_MD_INLINE MultiDual<N> chain(double f, double df, const MultiDual<N>& a) {
   MultiDual<N> r;
-  if constexpr (MultiDual<N>::value_in_pack) {
-    r.p = detail::value_then_tangents(typename MultiDual<N>::Pack{f}, df * a.p);
-  } else {
-    r.v = f;
-    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = df * a.t[k];
-  }
+  if constexpr (MultiDual<N>::value_in_pack) r.t[0] = detail::value_then_tangents(f, df * a.t[0]);
+  for (int k = MultiDual<N>::first_tangent_pack; k < MultiDual<N>::packs; ++k) r.t[k] = df * a.t[k];
+  if constexpr (!MultiDual<N>::value_in_pack) r.v = f;
   return r;
 }
 }  // namespace multi_dual_detail
@@ -394,12 +417,12 @@ template <int N>
 MultiDual<N> atan2(const MultiDual<N>& y, const MultiDual<N>& x) {
   const double inv = 1 / (x.v * x.v + y.v * y.v), cy = x.v * inv, cx = -y.v * inv;
   MultiDual<N> r;
-  if constexpr (MultiDual<N>::value_in_pack) {
-    r.p = detail::value_then_tangents(typename MultiDual<N>::Pack{std::atan2(y.v, x.v)}, cy * y.p + cx * x.p);
-  } else {
-    r.v = std::atan2(y.v, x.v);
-    for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] = cy * y.t[k] + cx * x.t[k];
-  }
+  const double value = std::atan2(y.v, x.v);
+  if constexpr (MultiDual<N>::value_in_pack)
+    r.t[0] = detail::value_then_tangents(value, cy * y.t[0] + cx * x.t[0]);
+  for (int k = MultiDual<N>::first_tangent_pack; k < MultiDual<N>::packs; ++k)
+    r.t[k] = cy * y.t[k] + cx * x.t[k];
+  if constexpr (!MultiDual<N>::value_in_pack) r.v = value;
   return r;
 }
 template <int N>
@@ -421,9 +444,8 @@ MultiDual<N> pow(const MultiDual<N>& a, const MultiDual<N>& b) {
   MultiDual<N> r = multi_dual_detail::chain(p, b.v * std::pow(a.v, b.v - 1), a);
   if (a.v > 0) {
     const double db = p * std::log(a.v);
-    if constexpr (MultiDual<N>::value_in_pack) r.p = detail::add_to_tangents(r.p, db * b.p);
-    else
-      for (int k = 0; k < MultiDual<N>::packs; ++k) r.t[k] += db * b.t[k];
+    if constexpr (MultiDual<N>::value_in_pack) r.t[0] = detail::add_to_tangents(r.t[0], db * b.t[0]);
+    for (int k = MultiDual<N>::first_tangent_pack; k < MultiDual<N>::packs; ++k) r.t[k] += db * b.t[k];
   }
   return r;
 }
