@@ -75,14 +75,11 @@ struct MultiDualStorage {
   Pack t[packs];  // tangents: t[k] holds d_{lanes·k} … d_{lanes·k + lanes − 1}
   double v;       // value
 };
-// N + 1 lanes, aligned to a cache line where they fill whole lines (to a pack otherwise, so that
-// the struct is no larger) so that no load of a pack spans two cache lines.
-constexpr int value_in_pack_alignment(int n, int lanes) {
-  const int bytes = (n + lanes) / lanes * lanes * 8;
-  return bytes % 64 == 0 ? 64 : lanes * 8;
-}
+// N + 1 lanes, aligned to a pack so that no load of one spans two cache lines (no more: Eigen's
+// fixed-size arrays align to at most the register width, and clang rejects a larger element
+// alignment there).
 template <int N, int Lanes>
-struct alignas(value_in_pack_alignment(N, Lanes)) MultiDualStorage<N, Lanes, true> {
+struct alignas(Lanes * 8) MultiDualStorage<N, Lanes, true> {
   using Pack = typename PackOf<Lanes>::type;
   static constexpr int packs = (N + Lanes) / Lanes;
   union {
