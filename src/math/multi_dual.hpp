@@ -110,6 +110,12 @@ KANESENS_MD_INLINE Pack multiply_add(double s, Pack b, Pack c) {
 #if defined(__AVX__)
 // The value's lane (lane 0 of the first pack) apart from the tangents': AVX-512's masked
 // operations on a 64-byte pack, blends on a 32-byte one.
+// Lane 0 from a, the others from b (32-byte packs).
+template <class Pack>
+KANESENS_MD_INLINE Pack first_lane_from(Pack a, Pack b) {
+  return reinterpret_cast<Pack>(
+      _mm256_blend_pd(reinterpret_cast<__m256d>(b), reinterpret_cast<__m256d>(a), 1));
+}
 // Lane 0 (the value) a, the other lanes (tangents) from b.
 template <class Pack>
 KANESENS_MD_INLINE Pack value_then_tangents(double a, Pack b) {
@@ -119,13 +125,7 @@ KANESENS_MD_INLINE Pack value_then_tangents(double a, Pack b) {
         _mm512_mask_mov_pd(reinterpret_cast<__m512d>(b), 1, reinterpret_cast<__m512d>(Pack{a})));
   else
 #endif
-    return reinterpret_cast<Pack>(_mm256_blend_pd(reinterpret_cast<__m256d>(b), _mm256_set1_pd(a), 1));
-}
-// Lane 0 from a, the others from b (32-byte packs).
-template <class Pack>
-KANESENS_MD_INLINE Pack first_lane_from(Pack a, Pack b) {
-  return reinterpret_cast<Pack>(
-      _mm256_blend_pd(reinterpret_cast<__m256d>(b), reinterpret_cast<__m256d>(a), 1));
+    return first_lane_from(reinterpret_cast<Pack>(_mm256_set1_pd(a)), b);
 }
 // Lane 0 x, the others 0. On 32-byte packs as a broadcast and a mask rather than the zero-extending
 // move GCC would pick (vmovq from a high register, an encoding that Debian's valgrind does not
