@@ -594,7 +594,7 @@ void KaneProblem::full_rate(double t, const double* y, const double* ydot, doubl
 double KaneProblem::energy(double t, const double* y) { return sim::energy(model_, workspaces_.values(), t, y); }
 
 void KaneProblem::multipliers(double t, const double* y, double* lambda) {
-  sim::multipliers(model_, workspaces_.values(), dynamics_, t, y, lambda);
+  sim::multipliers(model_, workspaces_.values(), dynamics_, t, y, recorded_rate_.data(), lambda);
 }
 
 void KaneProblem::multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda) {

@@ -309,7 +309,7 @@ class KaneProblem final : public OdeProblem {
   bool fused_multiplier_sensitivities(double t, const double* y, const double* const* s, double* dlambda);
   // The same from multi-tangent passes of the multiplier form (NaN where λ cannot be computed).
   void multiplier_form_sensitivities(double t, const double* y, const double* const* s, double* dlambda);
-  std::vector<double> recorded_rate_;  // nstate: ẏ of those passes (not needed)
+  std::vector<double> recorded_rate_;  // nstate: ẏ of the recording passes and multipliers (scratch)
 };
 
 }  // namespace kanesens::sim

@@ -36,10 +36,9 @@ double energy(const Model& m, Workspace<double>& ws, double t, const double* y) 
 }
 
 void multipliers(const Model& m, Workspace<double>& ws, const DynamicsOptions& options, double t, const double* y,
-                 double* lambda) {
-  std::vector<double> ydot(static_cast<std::size_t>(m.nstate()));
+                 double* ydot, double* lambda) {
   // Where λ cannot be determined it is recorded as NaN, never as a silent 0.
-  const bool ok = dynamics::evaluate_rhs(m, ws, t, y, ydot.data(), options);
+  const bool ok = dynamics::evaluate_rhs(m, ws, t, y, ydot, options);
   for (int r = 0; r < m.nconstraint_rows; ++r) lambda[r] = ok ? ws.multipliers[r] : std::nan("");
 }
 

@@ -15,9 +15,9 @@ using DualWorkspace = dynamics::Workspace<math::Dual>;
 
 // T + V with the workspace's parameters.
 double energy(const model::Model& m, dynamics::Workspace<double>& ws, double t, const double* y);
-// λ (m) of M u̇ = f + Aᵀλ.
+// λ (m) of M u̇ = f + Aᵀλ; ydot (nstate) is scratch, so that recording allocates nothing.
 void multipliers(const model::Model& m, dynamics::Workspace<double>& ws, const dynamics::DynamicsOptions& options,
-                 double t, const double* y, double* lambda);
+                 double t, const double* y, double* ydot, double* lambda);
 // dλ/dε (m) along (s, the workspace's parameter tangent): one dual evaluation.
 void multiplier_sensitivity(const model::Model& m, DualWorkspace& ws, const dynamics::DynamicsOptions& options,
                             double t, const double* y, const double* s, double* dlambda);
