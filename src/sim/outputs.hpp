@@ -15,7 +15,7 @@ using DualWorkspace = dynamics::Workspace<math::Dual>;
 
 // T + V with the workspace's parameters.
 double energy(const model::Model& m, dynamics::Workspace<double>& ws, double t, const double* y);
-// λ (m) of M u̇ = f + Aᵀλ; ydot (nstate) is scratch, so that recording allocates nothing.
+// λ (m) of M u̇ = f + Aᵀλ; ydot (nstate) is scratch, so that recording λ allocates nothing.
 void multipliers(const model::Model& m, dynamics::Workspace<double>& ws, const dynamics::DynamicsOptions& options,
                  double t, const double* y, double* ydot, double* lambda);
 // dλ/dε (m) along (s, the workspace's parameter tangent): one dual evaluation.
