@@ -36,7 +36,8 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       value_constraint_(static_cast<std::size_t>(model.nconstraint_rows)),
       u_full_(static_cast<std::size_t>(model.nu)),
       s_full_(static_cast<std::size_t>(model.nstate())),
-      recorded_rate_(static_cast<std::size_t>(model.nstate())) {
+      recorded_rate_(static_cast<std::size_t>(model.nstate())),
+      recorded_dlambda_(static_cast<std::size_t>(model.nconstraint_rows)) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
   if (!model.evaluate_planar()) sensitivity_method_ = DerivativeMethod::residual;
   value_rhs_ = !embedded_ && model.nconstraint_rows > 0 && !model.evaluate_planar() &&
@@ -598,7 +599,8 @@ void KaneProblem::multipliers(double t, const double* y, double* lambda) {
 }
 
 void KaneProblem::multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda) {
-  sim::multiplier_sensitivity(model_, workspaces_.tangent(i), dynamics_, t, y, s, dlambda);
+  sim::multiplier_sensitivity(model_, workspaces_.tangent(i), dynamics_, t, y, s, {y_dual_.data(), ydot_dual_.data()},
+                              dlambda);
 }
 
 template <class Read>
@@ -617,10 +619,9 @@ void KaneProblem::full_state_sensitivity_passes(double t, const double* y, const
 void KaneProblem::multiplier_sensitivities(double t, const double* y, const double* const* s, double* dlambda) {
   const int m = model_.nconstraint_rows, ns = num_sensitivities();
   if (single_tangent()) {
-    std::vector<double> dl(static_cast<std::size_t>(m));
     for (int i = 0; i < ns; ++i) {
-      multiplier_sensitivity(t, y, i, s[i], dl.data());
-      for (int r = 0; r < m; ++r) dlambda[r * ns + i] = dl[static_cast<std::size_t>(r)];
+      multiplier_sensitivity(t, y, i, s[i], recorded_dlambda_.data());
+      for (int r = 0; r < m; ++r) dlambda[r * ns + i] = recorded_dlambda_[static_cast<std::size_t>(r)];
     }
     return;
   }
@@ -702,7 +703,7 @@ void KaneProblem::constraint_residuals(double t, const double* y, double& positi
 void KaneProblem::sensitivity_constraint_residuals(double t, const double* y, int i, const double* s,
                                                    double& position, double& velocity) {
   sim::sensitivity_constraint_residuals(model_, workspaces_.tangent(i), dynamics_, holonomic_.rows(), t, y, s,
-                                        position, velocity);
+                                        {y_dual_.data(), ydot_dual_.data()}, position, velocity);
 }
 
 }  // namespace kanesens::sim

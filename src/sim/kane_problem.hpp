@@ -310,6 +310,7 @@ class KaneProblem final : public OdeProblem {
   // The same from multi-tangent passes of the multiplier form (NaN where λ cannot be computed).
   void multiplier_form_sensitivities(double t, const double* y, const double* const* s, double* dlambda);
   std::vector<double> recorded_rate_;  // nstate: ẏ of the recording passes and multipliers (scratch)
+  std::vector<double> recorded_dlambda_;  // m: one sensitivity's dλ/dε on the single-tangent path (scratch)
 };
 
 }  // namespace kanesens::sim

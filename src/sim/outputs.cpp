@@ -15,14 +15,13 @@ using math::Dual;
 using model::Model;
 
 namespace {
-// The multiplier-form right-hand side on duals at (y, s).
+// The multiplier-form right-hand side on duals at (y, s), with yd and ydot (nstate) as scratch.
 // False where u̇ (and λ) cannot be computed: the outputs that need them are then NaN.
 bool evaluate_dual(const Model& m, DualWorkspace& ws, const DynamicsOptions& options, double t, const double* y,
-                   const double* s) {
+                   const double* s, DualScratch scratch) {
   const int n = m.nstate();
-  std::vector<Dual> yd(static_cast<std::size_t>(n)), ydot(static_cast<std::size_t>(n));
-  for (int r = 0; r < n; ++r) yd[static_cast<std::size_t>(r)] = Dual(y[r], s[r]);
-  return dynamics::evaluate_rhs(m, ws, Dual(t), yd.data(), ydot.data(), options);
+  for (int r = 0; r < n; ++r) scratch.y[r] = Dual(y[r], s[r]);
+  return dynamics::evaluate_rhs(m, ws, Dual(t), scratch.y, scratch.ydot, options);
 }
 }  // namespace
 
@@ -43,8 +42,8 @@ void multipliers(const Model& m, Workspace<double>& ws, const DynamicsOptions& o
 }
 
 void multiplier_sensitivity(const Model& m, DualWorkspace& ws, const DynamicsOptions& options, double t,
-                            const double* y, const double* s, double* dlambda) {
-  const bool ok = evaluate_dual(m, ws, options, t, y, s);
+                            const double* y, const double* s, DualScratch scratch, double* dlambda) {
+  const bool ok = evaluate_dual(m, ws, options, t, y, s, scratch);
   for (int r = 0; r < m.nconstraint_rows; ++r) dlambda[r] = ok ? ws.multipliers[r].d : std::nan("");
 }
 
@@ -69,8 +68,9 @@ void constraint_residuals(const Model& m, Workspace<double>& ws, const DynamicsO
 
 void sensitivity_constraint_residuals(const Model& m, DualWorkspace& ws, const DynamicsOptions& options,
                                       const std::vector<int>& holonomic_rows, double t, const double* y,
-                                      const double* s, double& position, double& velocity) {
-  if (!evaluate_dual(m, ws, options, t, y, s)) {
+                                      const double* s, DualScratch scratch, double& position,
+                                      double& velocity) {
+  if (!evaluate_dual(m, ws, options, t, y, s, scratch)) {
     position = velocity = std::nan("");
     return;
   }

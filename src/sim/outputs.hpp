@@ -12,6 +12,12 @@
 namespace kanesens::sim {
 
 using DualWorkspace = dynamics::Workspace<math::Dual>;
+// The state and its rate on duals (nstate each): the dual outputs' scratch, so that recording
+// them allocates nothing.
+struct DualScratch {
+  math::Dual* y;
+  math::Dual* ydot;
+};
 
 // T + V with the workspace's parameters.
 double energy(const model::Model& m, dynamics::Workspace<double>& ws, double t, const double* y);
@@ -20,7 +26,7 @@ void multipliers(const model::Model& m, dynamics::Workspace<double>& ws, const d
                  double t, const double* y, double* ydot, double* lambda);
 // dλ/dε (m) along (s, the workspace's parameter tangent): one dual evaluation.
 void multiplier_sensitivity(const model::Model& m, DualWorkspace& ws, const dynamics::DynamicsOptions& options,
-                            double t, const double* y, const double* s, double* dlambda);
+                            double t, const double* y, const double* s, DualScratch scratch, double* dlambda);
 // max |g| over the holonomic rows, max |A u + a0| over all rows (NaN if any is not finite).
 void constraint_residuals(const model::Model& m, dynamics::Workspace<double>& ws,
                           const dynamics::DynamicsOptions& options, const std::vector<int>& holonomic_rows, double t,
@@ -29,6 +35,6 @@ void constraint_residuals(const model::Model& m, dynamics::Workspace<double>& ws
 void sensitivity_constraint_residuals(const model::Model& m, DualWorkspace& ws,
                                       const dynamics::DynamicsOptions& options,
                                       const std::vector<int>& holonomic_rows, double t, const double* y,
-                                      const double* s, double& position, double& velocity);
+                                      const double* s, DualScratch scratch, double& position, double& velocity);
 
 }  // namespace kanesens::sim

@@ -231,3 +231,42 @@ TEST(NoAllocation, SolverCallbacks) {
     EXPECT_EQ(count, 0) << m.name << ": " << count << " heap allocations";
   }
 }
+
+// What a trajectory records at each output of a constrained scene: λ with its sensitivities
+// (one sensitivity: the single-tangent path; six: the multi-tangent passes) and the residuals of
+// the constraints and of their sensitivities.
+TEST(NoAllocation, RecordingConstrainedOutputs) {
+  for (const auto& c : cases()) {
+    const Model& m = c.model;
+    if (m.nconstraint_rows == 0) continue;
+    for (int ns : {1, 6}) {
+      SCOPED_TRACE(std::string(c.name) + ", " + std::to_string(ns) + " sensitivities");
+      std::vector<InputRef> refs;
+      for (int i = 0; i < ns; ++i) refs.push_back({InputRef::Kind::initial_condition, i % m.nstate(), "y0"});
+      KaneProblem p(m, refs);
+      p.set_sample(SampleInputs(m));
+      const int n = p.size();
+      std::vector<double> y(static_cast<std::size_t>(n)), lambda(static_cast<std::size_t>(m.nconstraint_rows)),
+          dlambda(lambda.size() * static_cast<std::size_t>(ns));
+      p.initial_state(y.data());
+      std::vector<std::vector<double>> s(static_cast<std::size_t>(ns), std::vector<double>(y.size(), 0.1));
+      std::vector<const double*> sp;
+      for (const auto& si : s) sp.push_back(si.data());
+      double position = 0, velocity = 0, sum = 0;
+      auto record = [&] {
+        p.multipliers_and_sensitivities(0.2, y.data(), sp.data(), lambda.data(), dlambda.data());
+        p.multiplier_sensitivities(0.2, y.data(), sp.data(), dlambda.data());
+        p.constraint_residuals(0.2, y.data(), position, velocity);
+        sum += position + velocity;
+        for (int i = 0; i < ns; ++i) {
+          p.sensitivity_constraint_residuals(0.2, y.data(), i, sp[static_cast<std::size_t>(i)], position, velocity);
+          sum += position + velocity;
+        }
+      };
+      record();  // warm-up, outside the count
+      const long count = allocations_during(record);
+      EXPECT_EQ(count, 0) << count << " heap allocations";
+      EXPECT_TRUE(std::isfinite(sum));
+    }
+  }
+}
