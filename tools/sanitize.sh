@@ -13,10 +13,8 @@ build=${KANESENS_ASAN_BUILD_DIR:-$root/build-asan}
 start=$(date +%s)
 bash "$root/tools/install-deps.sh" >/dev/null
 bash "$root/tools/asan-tree.sh" "$build"
-# The unit-test executables (one per tests/unit/test_*.cpp) and what they link.
-targets=()
-for f in "$root"/tests/unit/test_*.cpp; do targets+=("$(basename "$f" .cpp)"); done
-cmake --build "$build" -j "${KANESENS_JOBS:-$(nproc)}" --target "${targets[@]}"
+# The unit-test programs (tests/CMakeLists.txt: unit_tests and the standalone ones) and what they link.
+cmake --build "$build" -j "${KANESENS_JOBS:-$(nproc)}" --target unit_test_programs
 built=$(date +%s)
 # fast_unwind_on_malloc=0: full leak stacks through libraries built without frame pointers
 # (otherwise Open MPI's leaks show as "<unknown module>" and cannot be attributed or suppressed);

@@ -25,6 +25,8 @@
 #include "sim/simulate.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 
 namespace {
@@ -465,3 +467,5 @@ TEST(Andrews, EndTimeAdamsNoStabilizationRtol1e12) {
   compare_end("Adams, no stabilization, rtol 1e-12", e, read_reference(), {2e-9, 3e-8, 5e-8});
   EXPECT_LT(e.energy_balance, 2e-10);
 }
+
+}  // namespace KANESENS_UNITY_ID

@@ -20,6 +20,8 @@
 #include "sim/simulate.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
@@ -345,3 +347,5 @@ INSTANTIATE_TEST_SUITE_P(Joints, TorqueFreeBody,
                          });
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

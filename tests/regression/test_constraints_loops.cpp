@@ -19,6 +19,8 @@
 #include "../support/constraint_test_support.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
@@ -125,3 +127,5 @@ TEST(ConstraintLoops, GearCouplerMatchesOneDofReduction) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

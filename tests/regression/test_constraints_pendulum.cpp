@@ -26,6 +26,8 @@
 #include "model/scene/parse_scene.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
@@ -332,3 +334,5 @@ scene:
     EXPECT_LT(worst_spin, 1e-9);
   }
 }
+
+}  // namespace KANESENS_UNITY_ID

@@ -22,6 +22,8 @@
 #include "../support/constraint_test_support.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
@@ -288,3 +290,5 @@ TEST(ConstraintSensitivities, AllAtOnceMultipliersOnTheThreeDimensionalPath) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -27,6 +27,8 @@
 #include "sim/kane_problem.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
@@ -331,3 +333,5 @@ TEST(RollingSensitivities, PlaneNormalOfAParameterAndFixedMatchDifferences) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

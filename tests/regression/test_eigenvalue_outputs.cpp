@@ -20,6 +20,8 @@
 #include "sim/linearize.hpp"
 #include "sim/modes.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -243,3 +245,5 @@ TEST(LinearizeRollingDisc, UprightMatchesClosedForm) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -11,6 +11,8 @@
 #include "sim/simulate.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -99,3 +101,5 @@ TEST(Embedding, AgreesWithMultipliersOnPinnedPendulum) {
 }
 
 TEST(Embedding, AgreesWithMultipliersOnFourBar) { compare(kFourBar, {"a", "m", "j1.u0"}); }
+
+}  // namespace KANESENS_UNITY_ID

@@ -13,6 +13,8 @@
 #include "../support/layers.hpp"
 #include "model/yaml_reader.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
@@ -186,3 +188,5 @@ scene:
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

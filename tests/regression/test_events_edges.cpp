@@ -15,6 +15,8 @@
 
 #include "../support/output_test_support.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -87,3 +89,5 @@ TEST_P(EventEdges, AFunctionNotDefinedEverywhereFailsTheSampleWithAMessage) {
 
 INSTANTIATE_TEST_SUITE_P(Methods, EventEdges, ::testing::Values("bdf", "adams", "dop853"),
                          [](const auto& info) { return info.param; });
+
+}  // namespace KANESENS_UNITY_ID

@@ -19,6 +19,8 @@
 
 #include "../support/output_test_support.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -130,3 +132,5 @@ INSTANTIATE_TEST_SUITE_P(
                       Constrained{"bdf_embedding", "bdf", "formulation: embedding, stabilization: projection"},
                       Constrained{"dop853_embedding", "dop853", "formulation: embedding, stabilization: projection"}),
     [](const auto& info) { return std::string(info.param.name); });
+
+}  // namespace KANESENS_UNITY_ID

@@ -23,6 +23,8 @@
 #include "../support/closed_forms.hpp"
 #include "../support/output_test_support.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -263,3 +265,5 @@ TEST_P(ConstrainedExtrema, FourBarRockerExtremaMatchFiniteDifferences) {
 
 INSTANTIATE_TEST_SUITE_P(Formulations, ConstrainedExtrema, ::testing::Values("multipliers", "embedding"),
                          [](const auto& info) { return info.param; });
+
+}  // namespace KANESENS_UNITY_ID

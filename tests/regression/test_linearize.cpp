@@ -21,6 +21,8 @@
 #include "sim/linearize.hpp"
 #include "sim/modes.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -348,3 +350,5 @@ TEST(LinearizeBicycle, WeaveAndCapsizeSpeeds) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

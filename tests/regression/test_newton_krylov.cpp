@@ -15,6 +15,8 @@
 #include "sim/simulate.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
@@ -219,3 +221,5 @@ TEST(NewtonKrylov, AutoChoosesBySizeAndStiffness) {
                 .result.linear_solver,
             ks::LinearSolver::dense);
 }
+
+}  // namespace KANESENS_UNITY_ID

@@ -18,6 +18,8 @@
 
 #include "../support/output_test_support.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -229,3 +231,5 @@ outputs:
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -15,6 +15,8 @@
 
 #include "../support/output_test_support.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -186,3 +188,5 @@ TEST(OutputSensitivitiesFd, SpatialEveryKind) { check(compare(kSpatial, "fd_spat
 TEST(OutputSensitivitiesFd, ConstraintForcesAndLoads) { check(compare(kPinned, "fd_pinned.yaml"), "pinned"); }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -12,6 +12,8 @@
 #include "../support/layers.hpp"
 #include "model/yaml_reader.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
@@ -195,3 +197,5 @@ TEST(RollingPosition, TwoWheelerWithSampledSteerStartsOnTheGround) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -33,6 +33,8 @@
 #include "sim/simulate.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 
@@ -270,3 +272,5 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SensitivitiesVsFiniteDifferences, ::testing::Va
                          });
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -20,6 +20,18 @@ inline Model model_from_text(const std::string& yaml, const std::string& name = 
   return build_model(parse_scene_text(yaml, name));
 }
 
+// The model of a scene file of the repository (path relative to its root, e.g. configs/x.yaml).
+inline Model model_from_source_file(const std::string& path) {
+  return build_model(parse_scene_file(std::string(KANESENS_SOURCE_DIR) + "/" + path));
+}
+
+// `outputs` ≥ 2 output times evenly spaced on [0, end].
+inline std::vector<double> output_grid(double end, int outputs) {
+  std::vector<double> t;
+  for (int k = 0; k < outputs; ++k) t.push_back(end * k / (outputs - 1));
+  return t;
+}
+
 // Hamilton product a ⊗ b of quaternions (w, x, y, z).
 inline Eigen::Vector4d quat_mul(const Eigen::Vector4d& a, const Eigen::Vector4d& b) {
   return {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],

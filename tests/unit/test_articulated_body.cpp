@@ -20,6 +20,8 @@
 #include "kane_test_support.hpp"
 #include "test_scenes.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -288,3 +290,5 @@ TEST(ArticulatedBody, ChosenForUnconstrainedSpatialChainsOnly) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -16,6 +16,8 @@
 #include "sim/kane_problem.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -431,3 +433,5 @@ TEST(BadInputTable, GoodTextsAreGood) {
   bdf.set = {"solver.max_order=0", "solver.method=bdf"};
   EXPECT_NO_THROW(parallel::validate_study(path.string(), bdf));
 }
+
+}  // namespace KANESENS_UNITY_ID

@@ -12,6 +12,8 @@
 #include "math/cholesky.hpp"
 #include "math/dual.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -122,3 +124,5 @@ TEST(Cholesky, DualFactorCarriesTheDerivative) {
   }
 }
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -25,12 +25,12 @@
 #include "sim/kane_problem.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace {
 
 using namespace kanesens::testing;
 using Method = KaneProblem::DerivativeMethod;
-
-Model load(const std::string& path) { return build_model(parse_scene_file(std::string(KANESENS_SOURCE_DIR) + "/" + path)); }
 
 // Every joint type the closed form covers, in a branched tree whose anchor is far from the
 // world origin, plus a second tree; full inertia tensors, mass centres off the joint axes.
@@ -108,10 +108,10 @@ double max_diff(const std::vector<double>& a, const std::vector<double>& b) {
 
 TEST(ClosedFormJacobian, MatchesTheDualPassesAndDifferences) {
   const std::vector<std::pair<std::string, Model>> scenes = {
-      {"chain8_spatial", load("bench/configs/chain8_spatial.yaml")},
-      {"chain10_spatial", load("bench/configs/chain10_spatial.yaml")},
+      {"chain8_spatial", model_from_source_file("bench/configs/chain8_spatial.yaml")},
+      {"chain10_spatial", model_from_source_file("bench/configs/chain10_spatial.yaml")},
       {"zoo", model_from_text(kZoo)},
-      {"arm_3d", load("configs/arm_3d.yaml")},
+      {"arm_3d", model_from_source_file("configs/arm_3d.yaml")},
       {"zoo with loads", model_from_text(std::string(kZoo) + kLoads)},
   };
   // The chains' M is dense; the branched tree's is factored along the tree: both solves are used.
@@ -157,7 +157,7 @@ TEST(ClosedFormJacobian, IsNotTakenWhereItDoesNotApply) {
   // Planar scene, constraints, quaternions.
   for (const char* scene : {"configs/nlink_chain_4.yaml", "configs/four_bar.yaml", "configs/spinning_top.yaml"}) {
     SCOPED_TRACE(scene);
-    const Model m = load(scene);
+    const Model m = model_from_source_file(scene);
     EXPECT_FALSE(kanesens::dynamics::ResidualDerivatives::applies(m));
     KaneProblem p(m, {});
     p.set_sample(SampleInputs(m));
@@ -192,3 +192,5 @@ TEST(ClosedFormJacobian, FallsBackWhenYdotIsNotTheRightHandSide) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -13,6 +13,8 @@
 #include "math/min_norm_solver.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 using kanesens::testing::qdot_of;
 
@@ -193,3 +195,5 @@ TEST(MinNormSolver, RedundantRowsFallBackToTheOrthogonalDecomposition) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

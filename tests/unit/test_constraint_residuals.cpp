@@ -17,12 +17,13 @@
 #include "sim/holonomic.hpp"
 #include "sim/kane_problem.hpp"
 #include "../support/layers.hpp"
+#include "kane_test_support.hpp"
+
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
 
 namespace {
 
 using namespace kanesens::testing;
-
-Model load(const std::string& path) { return build_model(parse_scene_file(std::string(KANESENS_SOURCE_DIR) + "/" + path)); }
 
 ConstraintOptions baumgarte() {
   ConstraintOptions c;
@@ -37,7 +38,7 @@ TEST(ConstraintResiduals, AreTheRightHandSidesAndNaNWhenNotFinite) {
   for (const char* scene : {"configs/four_bar.yaml", "configs/slider_crank.yaml", "configs/andrews.yaml",
                             "configs/rolling_disc.yaml", "configs/whipple_bicycle.yaml", "configs/knife_edge.yaml"}) {
     SCOPED_TRACE(scene);
-    const Model m = load(scene);
+    const Model m = model_from_source_file(scene);
     KaneProblem p(m, {}, baumgarte());
     p.set_sample(SampleInputs(m));
     Workspace<double> ws(m);
@@ -71,3 +72,5 @@ TEST(ConstraintResiduals, AreTheRightHandSidesAndNaNWhenNotFinite) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

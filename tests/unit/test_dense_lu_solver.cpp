@@ -16,6 +16,8 @@
 #include "sim/solve/sundials_handles.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace {
 
 using namespace kanesens::testing;
@@ -156,3 +158,5 @@ TEST(DenseLuSolver, SolvesEveryBlockOfAStackedVector) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

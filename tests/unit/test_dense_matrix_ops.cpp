@@ -14,6 +14,8 @@
 #include "sim/solve/sundials_handles.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace {
 
 using namespace kanesens::testing;
@@ -79,3 +81,5 @@ TEST(DenseMatrixOps, ClonesCarryThemAndOtherShapesAreRefused) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -10,6 +10,8 @@
 #include "study/distribution.hpp"
 #include "study/parse_vary.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::study;
 
 namespace {
@@ -139,3 +141,5 @@ TEST(Distribution, FindProblemNamesTheKeyAndTheValues) {
   EXPECT_FALSE((ks::Distribution{ks::Triangular{0, 0, 2}}.find_problem()));
   EXPECT_FALSE((ks::Distribution{ks::TruncNormal{0, 1, 7, 8}}.find_problem()));
 }
+
+}  // namespace KANESENS_UNITY_ID

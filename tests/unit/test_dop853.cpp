@@ -23,8 +23,12 @@
 #include "sim/solve/dop853.hpp"
 #include "sim/solve/integrator.hpp"
 #include "spring_problem.hpp"
+#include "kane_test_support.hpp"
+#include "layers.hpp"
 
-namespace ks = kanesens::sim;
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
+namespace ks = kanesens::testing;  // every layer by name (tests/support/layers.hpp)
 
 namespace {
 
@@ -72,12 +76,6 @@ Trajectory run(ks::OdeProblem& p, const ks::SolverOptions& o, const std::vector<
   return r;
 }
 
-std::vector<double> grid(double end, int outputs) {
-  std::vector<double> t;
-  for (int k = 0; k < outputs; ++k) t.push_back(end * k / (outputs - 1));
-  return t;
-}
-
 ks::SolverOptions dop853(double rtol, double atol) {
   ks::SolverOptions o;
   o.method = ks::Method::dop853;
@@ -118,7 +116,7 @@ MaxErrors max_errors(const Spring& p, const Trajectory& r, const std::vector<dou
 
 TEST(Dop853, EighthOrderForStatesAndSensitivities) {
   Spring p(4.0);
-  const std::vector<double> times = grid(8.0, 11);  // outputs 0.8 apart: multiples of every h
+  const std::vector<double> times = ks::output_grid(8.0, 11);  // outputs 0.8 apart: multiples of every h
   double prev_x = 0, prev_s = 0;
   for (double h : {0.4, 0.2, 0.1}) {
     const Trajectory r = run(p, dop853_constant_steps(h), times);  // the outputs are multiples of h
@@ -167,8 +165,8 @@ TEST(Dop853, DenseOutputIsAccurateInsideTheSteps) {
 TEST(Dop853, OutputTimesDoNotCutTheSteps) {
   Spring p(4.0);
   const ks::SolverOptions o = dop853(1e-9, 1e-11);
-  const Trajectory two = run(p, o, grid(10.0, 2));
-  const std::vector<double> times = grid(10.0, 1001);
+  const Trajectory two = run(p, o, ks::output_grid(10.0, 2));
+  const std::vector<double> times = ks::output_grid(10.0, 1001);
   const Trajectory many = run(p, o, times);
   ASSERT_TRUE(two.result.ok() && many.result.ok());
   EXPECT_EQ(many.result.stats.steps, two.result.stats.steps);
@@ -184,7 +182,7 @@ TEST(Dop853, OutputTimesDoNotCutTheSteps) {
 
 TEST(Dop853, ErrorFallsWithTheTolerance) {
   Spring p(4.0);
-  const std::vector<double> times = grid(10.0, 6);
+  const std::vector<double> times = ks::output_grid(10.0, 6);
   double prev = 1;
   for (double rtol : {1e-6, 1e-9, 1e-12}) {
     const Trajectory r = run(p, dop853(rtol, rtol * 1e-2), times);
@@ -208,7 +206,7 @@ TEST(Dop853, ErrorFallsWithTheTolerance) {
 
 TEST(Dop853, IntegratorDispatchesTheMethod) {
   Spring p(4.0);
-  const std::vector<double> times = grid(3.0, 4);
+  const std::vector<double> times = ks::output_grid(3.0, 4);
   const Trajectory direct = run(p, dop853(1e-8, 1e-10), times);
   std::vector<double> x;
   ks::Integrator integ(dop853(1e-8, 1e-10));
@@ -223,7 +221,7 @@ TEST(Dop853, IntegratorDispatchesTheMethod) {
 TEST(Dop853, SensitivityErrorControlTakesMoreSteps) {
   // ∂x/∂k grows like t: controlling its error too needs at least as many steps.
   Spring p(4.0);
-  const std::vector<double> times = grid(10.0, 2);
+  const std::vector<double> times = ks::output_grid(10.0, 2);
   ks::SolverOptions on = dop853(1e-8, 1e-10), off = on;
   off.sens_error_control = false;
   const Trajectory a = run(p, on, times), b = run(p, off, times);
@@ -239,7 +237,7 @@ TEST(Dop853, FailuresAreStatuses) {
   Spring p(4.0);
   ks::SolverOptions few = dop853(1e-10, 1e-12);
   few.max_steps = 20;
-  const Trajectory r1 = run(p, few, grid(10.0, 11));
+  const Trajectory r1 = run(p, few, ks::output_grid(10.0, 11));
   EXPECT_EQ(r1.result.status, -1);
   EXPECT_NE(r1.result.message.find("DOP853_TOO_MUCH_WORK"), std::string::npos) << r1.result.message;
   EXPECT_EQ(r1.result.stats.steps, 20);
@@ -256,7 +254,7 @@ TEST(Dop853, FailuresAreStatuses) {
   EXPECT_GT(r2.result.t_fail, 0.9);
 
   p.throw_after = 1.5;
-  const Trajectory r3 = run(p, dop853(1e-8, 1e-10), grid(3.0, 4));
+  const Trajectory r3 = run(p, dop853(1e-8, 1e-10), ks::output_grid(3.0, 4));
   EXPECT_EQ(r3.result.status, -8);
   EXPECT_NE(r3.result.message.find("spring broke"), std::string::npos) << r3.result.message;
   EXPECT_EQ(r3.result.outputs_recorded, 2);
@@ -264,16 +262,16 @@ TEST(Dop853, FailuresAreStatuses) {
   // A RecoverableError rejects the trial step, which is retried smaller; a persistent one fails
   // the integration with its message; one at t0 fails at once.
   Recovering transient(10, 11, 1e300);
-  const Trajectory r4 = run(transient, dop853(1e-10, 1e-12), grid(2.0, 3));
+  const Trajectory r4 = run(transient, dop853(1e-10, 1e-12), ks::output_grid(2.0, 3));
   ASSERT_EQ(r4.result.status, 1) << r4.result.message;
   EXPECT_GE(r4.result.stats.callback_recoverable, 1);
   EXPECT_NEAR(r4.x[2], std::exp(-2.0), 1e-9);
   Recovering persistent(0, -1, 1.0);
-  const Trajectory r5 = run(persistent, dop853(1e-10, 1e-12), grid(2.0, 3));
+  const Trajectory r5 = run(persistent, dop853(1e-10, 1e-12), ks::output_grid(2.0, 3));
   EXPECT_EQ(r5.result.status, -3) << r5.result.message;
   EXPECT_NE(r5.result.message.find("mass matrix is singular here"), std::string::npos) << r5.result.message;
   Recovering at_t0(1, 1, 1e300);
-  const Trajectory r6 = run(at_t0, dop853(1e-10, 1e-12), grid(2.0, 3));
+  const Trajectory r6 = run(at_t0, dop853(1e-10, 1e-12), ks::output_grid(2.0, 3));
   EXPECT_EQ(r6.result.status, -8) << r6.result.message;
   EXPECT_NE(r6.result.message.find("mass matrix is singular here"), std::string::npos) << r6.result.message;
 
@@ -289,7 +287,7 @@ TEST(Dop853, StepControlRejectsFewStepsOnASwingingChain) {
   // rtol 1e-13.
   const kanesens::model::Model m = kanesens::model::build_model(
       kanesens::model::parse_scene_file(std::string(KANESENS_SOURCE_DIR) + "/configs/nlink_chain_4.yaml"));
-  const std::vector<double> times = grid(10.0, 101);
+  const std::vector<double> times = ks::output_grid(10.0, 101);
   const std::size_t n = static_cast<std::size_t>(m.nstate());
   auto states = [&](double rtol, ks::IntegrationResult& result) {
     ks::KaneProblem problem(m, {});
@@ -314,3 +312,5 @@ TEST(Dop853, StepControlRejectsFewStepsOnASwingingChain) {
     EXPECT_LT(error, 10 * rtol);
   }
 }
+
+}  // namespace KANESENS_UNITY_ID

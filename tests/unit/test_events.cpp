@@ -17,8 +17,12 @@
 #include <vector>
 
 #include "sim/solve/integrator.hpp"
+#include "kane_test_support.hpp"
+#include "layers.hpp"
 
-namespace ks = kanesens::sim;
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
+namespace ks = kanesens::testing;  // every layer by name (tests/support/layers.hpp)
 
 namespace {
 
@@ -117,12 +121,6 @@ ks::SolverOptions options(ks::Method method, double rtol) {
   return o;
 }
 
-std::vector<double> grid(double end, int outputs) {
-  std::vector<double> t;
-  for (int k = 0; k < outputs; ++k) t.push_back(end * k / (outputs - 1));
-  return t;
-}
-
 class Events : public ::testing::TestWithParam<Case> {};
 
 }  // namespace
@@ -132,7 +130,7 @@ TEST_P(Events, PendulumQuarterPeriodAndItsSensitivities) {
   const double L = 1.3, theta0 = 1.2;
   Pendulum p(L, theta0, c.stepwise);
   Crossings ev(-1);
-  const std::vector<double> times = grid(2.0, 21);
+  const std::vector<double> times = ks::output_grid(2.0, 21);
   int recorded = 0;
   const ks::IntegrationResult r = ks::integrate(p, options(c.method, 1e-10), times,
                                                 [&](int, double, const double*, const double* const*) { ++recorded; },
@@ -167,7 +165,7 @@ TEST_P(Events, DampedOscillatorCountsItsZeroCrossings) {
   for (int d : {0, 1, -1}) {
     Crossings ev(d);
     const ks::IntegrationResult r =
-        ks::integrate(p, options(c.method, 1e-9), grid(end, 11), [](int, double, const double*, const double* const*) {},
+        ks::integrate(p, options(c.method, 1e-9), ks::output_grid(end, 11), [](int, double, const double*, const double* const*) {},
                       nullptr, &ev);
     ASSERT_TRUE(r.ok()) << r.message;
     // x starts at 1 and falls first: falling crossings are the 1st, 3rd, ...
@@ -185,7 +183,7 @@ TEST_P(Events, StopEndsTheRunAtTheEventWithAnOkStatus) {
   const Case c = GetParam();
   Pendulum p(1.0, 0.5, c.stepwise);
   Crossings ev(0, true);
-  const std::vector<double> times = grid(2.0, 101);
+  const std::vector<double> times = ks::output_grid(2.0, 101);
   std::vector<double> recorded;
   const ks::IntegrationResult r = ks::integrate(p, options(c.method, 1e-10), times,
                                                 [&](int, double t, const double*, const double* const*) { recorded.push_back(t); },
@@ -224,7 +222,7 @@ class AtTime : public ks::OdeEvents {
 // recorded once.
 TEST_P(Events, AnEventExactlyAtAnOutputTimeIsSeenOnce) {
   const Case c = GetParam();
-  const std::vector<double> times = grid(0.2, 5);  // 0, 0.05, 0.1, 0.15, 0.2
+  const std::vector<double> times = ks::output_grid(0.2, 5);  // 0, 0.05, 0.1, 0.15, 0.2
   for (double at : {times[2], times[4]}) {
     Pendulum p(1.0, 0.5, c.stepwise);
     AtTime ev(at);
@@ -244,3 +242,5 @@ INSTANTIATE_TEST_SUITE_P(Methods, Events,
                                            Case{"bdf_stepwise", ks::Method::bdf, true},
                                            Case{"dop853", ks::Method::dop853, false}),
                          [](const auto& info) { return std::string(info.param.name); });
+
+}  // namespace KANESENS_UNITY_ID

@@ -6,6 +6,8 @@
 #include "model/expr/expression.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 using namespace kanesens::model::expr;
 
@@ -203,3 +205,5 @@ TEST(Expression, GradientOnDualsGivesHessianTimesDirection) {
   EXPECT_EQ(g2[2], 7);
   EXPECT_EQ(dt, 0);
 }
+
+}  // namespace KANESENS_UNITY_ID

@@ -12,6 +12,8 @@
 #include "kane_test_support.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -102,3 +104,5 @@ TEST(GeneralConstraints, AVanishingRowIsAReportedFailureNotAZeroMultiplier) {
   EXPECT_EQ(why, RhsFailure::none);
   EXPECT_EQ(ws.constraint_rank, 1);
 }
+
+}  // namespace KANESENS_UNITY_ID

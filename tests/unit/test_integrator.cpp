@@ -20,6 +20,8 @@
 #include "closed_forms.hpp"
 #include "sim/solve/integrator.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::sim;
 namespace kt = kanesens::testing;
 
@@ -1061,3 +1063,5 @@ TEST(IntegratorProjection, AdamsIsRejected) {
   CartesianPendulum pendulum;
   EXPECT_THROW(run(o, pendulum, {0, 1}), std::invalid_argument);
 }
+
+}  // namespace KANESENS_UNITY_ID

@@ -18,6 +18,8 @@
 #include "dynamics/frames.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 using Eigen::Matrix3d;
@@ -291,3 +293,5 @@ scene:
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

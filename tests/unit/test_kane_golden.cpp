@@ -17,6 +17,8 @@
 #include "test_scenes.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -105,3 +107,5 @@ TEST(KaneGolden, MatchesRecordedValues) {
   }
   EXPECT_EQ(i, now.size());
 }
+
+}  // namespace KANESENS_UNITY_ID

@@ -26,6 +26,8 @@
 #include "dynamics/frames.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::testing;
 using namespace kanesens::testing;
 using Eigen::Matrix3d;
@@ -433,3 +435,5 @@ INSTANTIATE_TEST_SUITE_P(Scenes, KaneIdentities, ::testing::ValuesIn(scenes()),
                          });
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -16,6 +16,8 @@
 #include "math/multi_dual.hpp"
 #include "math/spatial.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace {
 
 using kanesens::math::Dual;
@@ -312,3 +314,5 @@ TEST(MultiDual, DiagonalInertiaRotatesAsTheGeneralProduct) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -13,6 +13,8 @@
 #include "study/setup.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -134,3 +136,5 @@ INSTANTIATE_TEST_SUITE_P(Table, BadOutputs, ::testing::ValuesIn(cases()), [](con
 });
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

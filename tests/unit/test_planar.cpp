@@ -12,6 +12,8 @@
 #include "test_scenes.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -130,3 +132,5 @@ TEST(Planar, Detection) {
 TEST(Planar, ChainAgreesWith3D) { check_agreement(test_scenes::chain_scene(7), 5); }
 TEST(Planar, ForcesSceneAgreesWith3D) { check_agreement(test_scenes::kForcesScene, 5); }
 TEST(Planar, AwkwardSceneAgreesWith3D) { check_agreement(kAwkwardPlanar, 5); }
+
+}  // namespace KANESENS_UNITY_ID

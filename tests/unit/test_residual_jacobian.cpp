@@ -25,8 +25,11 @@
 #include "model/scene/parse_scene.hpp"
 #include "sim/kane_problem.hpp"
 #include "../support/layers.hpp"
+#include "kane_test_support.hpp"
 #include "jacobian_checks.hpp"
 #include "test_scenes.hpp"
+
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
 
 namespace {
 
@@ -39,8 +42,6 @@ ConstraintOptions with(ConstraintOptions::Formulation f, ConstraintOptions::Stab
   c.stabilization = s;
   return c;
 }
-
-Model load(const std::string& path) { return build_model(parse_scene_file(std::string(KANESENS_SOURCE_DIR) + "/" + path)); }
 
 // A state near the problem's initial state, with random speeds; ydot = f(t, y).
 std::vector<double> test_state(KaneProblem& p, std::mt19937& rng, double spread) {
@@ -83,7 +84,7 @@ TEST(ResidualJacobian, MatchesWholeRhsPassesAndDifferences) {
   std::mt19937 rng(17);
   for (const Case& c : cases) {
     SCOPED_TRACE(c.scene);
-    const Model m = load(c.scene);
+    const Model m = model_from_source_file(c.scene);
     KaneProblem p(m, {}, c.constraints);
     p.set_sample(SampleInputs(m));
     const int n = p.size();
@@ -123,7 +124,7 @@ TEST(ResidualJacobian, FallsBackWhereItDoesNotApply) {
   };
   {
     SCOPED_TRACE("embedding");
-    const Model m = load("configs/four_bar.yaml");
+    const Model m = model_from_source_file("configs/four_bar.yaml");
     KaneProblem p(m, {}, with(ConstraintOptions::Formulation::embedding, ConstraintOptions::Stabilization::projection));
     p.set_sample(SampleInputs(m));
     const std::vector<double> y = test_state(p, rng, 0.01);
@@ -137,7 +138,7 @@ TEST(ResidualJacobian, FallsBackWhereItDoesNotApply) {
     // whole right-hand side's (which does not use ydot), not a Jacobian at other accelerations.
     SCOPED_TRACE("inconsistent ydot");
     for (const char* scene : {"configs/arm_3d.yaml", "configs/four_bar.yaml"}) {
-      const Model m = load(scene);
+      const Model m = model_from_source_file(scene);
       KaneProblem p(m, {});
       p.set_sample(SampleInputs(m));
       p.set_jacobian_method(Method::residual);  // (the closed form's fallback: test_closed_form_jacobian)
@@ -160,7 +161,7 @@ TEST(ResidualJacobian, FallsBackWhereItDoesNotApply) {
     // vanishes, A M⁻¹ Aᵀ loses rank and λ is the minimum-norm one, whose derivative is not the
     // residual solve.
     SCOPED_TRACE("redundant rows");
-    const Model m = load("configs/parallelogram_four_bar.yaml");
+    const Model m = model_from_source_file("configs/parallelogram_four_bar.yaml");
     KaneProblem p(m, {});
     p.set_sample(SampleInputs(m));
     std::vector<double> y(static_cast<std::size_t>(p.size())), ydot(y.size());
@@ -222,7 +223,7 @@ TEST(ResidualSensitivities, MatchWholeRhsPasses) {
   std::mt19937 rng(29);
   for (const SensCase& c : cases) {
     SCOPED_TRACE(c.scene);
-    const Model m = load(c.scene);
+    const Model m = model_from_source_file(c.scene);
     std::vector<InputRef> refs;
     for (const std::string& name : c.sensitivities) refs.push_back(resolve_input(m, name, "test"));
     KaneProblem p(m, refs, c.constraints);
@@ -282,11 +283,11 @@ TEST(ResidualSensitivities, MatchWholeRhsPasses) {
 // recursion (trees, quaternions, rolling, general and loop constraints with Baumgarte terms).
 TEST(ResidualFromRest, IsTheResidualAtUdot) {
   const std::vector<std::pair<std::string, Model>> scenes = {
-      {"arm_3d", load("configs/arm_3d.yaml")},
-      {"spinning_top", load("configs/spinning_top.yaml")},
-      {"rolling_disc", load("configs/rolling_disc.yaml")},
-      {"andrews", load("configs/andrews.yaml")},
-      {"four_bar", load("configs/four_bar.yaml")},
+      {"arm_3d", model_from_source_file("configs/arm_3d.yaml")},
+      {"spinning_top", model_from_source_file("configs/spinning_top.yaml")},
+      {"rolling_disc", model_from_source_file("configs/rolling_disc.yaml")},
+      {"andrews", model_from_source_file("configs/andrews.yaml")},
+      {"four_bar", model_from_source_file("configs/four_bar.yaml")},
       {"tilted chain of 8", build_model(parse_scene_text(test_scenes::chain_scene(8, 0.1), "chain.yaml"))}};
   std::mt19937 rng(41);
   std::uniform_real_distribution<double> uni(-1, 1);
@@ -344,7 +345,7 @@ TEST(JacobianTimes, CheapUnlessOnlyTheValuesTakeTheArticulatedBodyRecursion) {
                                                                              {"bench/configs/nlink_chain_16.yaml", true},
                                                                              {"configs/arm_3d.yaml", true},
                                                                              {"configs/four_bar.yaml", true}}) {
-    const Model m = load(scene);
+    const Model m = model_from_source_file(scene);
     KaneProblem p(m, {});
     EXPECT_EQ(p.jacobian_times_cheap(), cheap) << scene;
   }
@@ -371,15 +372,15 @@ TEST(ValueRhs, IsTheGeneralRightHandSideAndHandsOverOnRedundantRows) {
     return m;
   };
   const std::vector<std::pair<std::string, std::pair<Model, ConstraintOptions>>> cases = {
-      {"rolling disc, Baumgarte", {load("configs/rolling_disc.yaml"), with(F::multipliers, St::baumgarte)}},
-      {"rolling disc, projection", {load("configs/rolling_disc.yaml"), with(F::multipliers, St::projection)}},
-      {"whipple bicycle", {load("configs/whipple_bicycle.yaml"), with(F::multipliers, St::projection)}},
-      {"two-wheeler, Baumgarte", {load("configs/two_wheeler.yaml"), with(F::multipliers, St::baumgarte)}},
-      {"four-bar on the 3-D path", {forced_3d(load("configs/four_bar.yaml")), with(F::multipliers, St::baumgarte)}},
+      {"rolling disc, Baumgarte", {model_from_source_file("configs/rolling_disc.yaml"), with(F::multipliers, St::baumgarte)}},
+      {"rolling disc, projection", {model_from_source_file("configs/rolling_disc.yaml"), with(F::multipliers, St::projection)}},
+      {"whipple bicycle", {model_from_source_file("configs/whipple_bicycle.yaml"), with(F::multipliers, St::projection)}},
+      {"two-wheeler, Baumgarte", {model_from_source_file("configs/two_wheeler.yaml"), with(F::multipliers, St::baumgarte)}},
+      {"four-bar on the 3-D path", {forced_3d(model_from_source_file("configs/four_bar.yaml")), with(F::multipliers, St::baumgarte)}},
       {"knife edge (general velocity row) on the 3-D path",
-       {forced_3d(load("configs/knife_edge.yaml")), with(F::multipliers, St::baumgarte)}},
+       {forced_3d(model_from_source_file("configs/knife_edge.yaml")), with(F::multipliers, St::baumgarte)}},
       {"Andrews (general position rows) on the 3-D path",
-       {forced_3d(load("configs/andrews.yaml")), with(F::multipliers, St::baumgarte)}},
+       {forced_3d(model_from_source_file("configs/andrews.yaml")), with(F::multipliers, St::baumgarte)}},
   };
   std::mt19937 rng(29);
   for (const auto& [name, c] : cases) {
@@ -427,3 +428,5 @@ TEST(ValueRhs, IsTheGeneralRightHandSideAndHandsOverOnRedundantRows) {
     EXPECT_TRUE(p.rhs_by_value_pass());
   }
 }
+
+}  // namespace KANESENS_UNITY_ID

@@ -15,8 +15,12 @@
 
 #include "sim/solve/rk4.hpp"
 #include "spring_problem.hpp"
+#include "kane_test_support.hpp"
+#include "layers.hpp"
 
-namespace ks = kanesens::sim;
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
+namespace ks = kanesens::testing;  // every layer by name (tests/support/layers.hpp)
 
 namespace {
 
@@ -39,17 +43,11 @@ Rk4Run run(Spring& p, double h, const std::vector<double>& times) {
   return r;
 }
 
-std::vector<double> grid(double end, int outputs) {
-  std::vector<double> t;
-  for (int k = 0; k < outputs; ++k) t.push_back(end * k / (outputs - 1));
-  return t;
-}
-
 }  // namespace
 
 TEST(Rk4, FourthOrderForStatesAndSensitivities) {
   Spring p(4.0);
-  const std::vector<double> times = grid(10.0, 11);
+  const std::vector<double> times = ks::output_grid(10.0, 11);
   double prev_x = 0, prev_s = 0;
   for (double h : {0.02, 0.01, 0.005}) {
     const Rk4Run r = run(p, h, times);
@@ -83,7 +81,7 @@ TEST(Rk4, StepsHitEveryOutput) {
 
 TEST(Rk4, BlowsUpBeyondTheStabilityLimit) {
   Spring p(1e6);  // ω = 1000 rad/s: stable for h < 2√2/1000 ≈ 2.83e-3
-  const std::vector<double> times = grid(2.0, 21);
+  const std::vector<double> times = ks::output_grid(2.0, 21);
   const Rk4Run unstable = run(p, 4e-3, times);  // |R(4i)| ≈ 7.6 per step: overflows within 2 s
   EXPECT_EQ(unstable.result.status, ks::rk4_nonfinite);
   EXPECT_NE(unstable.result.message.find("RK4_NONFINITE"), std::string::npos) << unstable.result.message;
@@ -98,7 +96,7 @@ TEST(Rk4, BlowsUpBeyondTheStabilityLimit) {
 TEST(Rk4, ThrowingRhsIsAStatus) {
   Spring p(1.0);
   p.throw_after = 0.5;
-  const Rk4Run r = run(p, 0.1, grid(1.0, 11));
+  const Rk4Run r = run(p, 0.1, ks::output_grid(1.0, 11));
   EXPECT_EQ(r.result.status, ks::rk4_callback_failed);
   EXPECT_NE(r.result.message.find("spring broke"), std::string::npos) << r.result.message;
   EXPECT_EQ(r.result.outputs_recorded, 6);  // t = 0 .. 0.5
@@ -113,3 +111,5 @@ TEST(Rk4, RejectsBadInput) {
   o.h = 0.1;
   EXPECT_THROW(ks::integrate_rk4(p, o, std::vector<double>{0.0, 0.0}, noop), std::invalid_argument);
 }
+
+}  // namespace KANESENS_UNITY_ID

@@ -13,6 +13,8 @@
 #include "study/keyed_permutation.hpp"
 #include "study/sobol_points.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::study;
 using ks::SamplingMethod;
 
@@ -408,3 +410,5 @@ TEST(Design, RefusesDesignsItCannotServe) {
   EXPECT_THROW(ks::Design(spec_of(SamplingMethod::mc, 5), {{"m", {ks::Uniform{2, 1}}}}),
                std::invalid_argument);
 }
+
+}  // namespace KANESENS_UNITY_ID

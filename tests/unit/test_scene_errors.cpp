@@ -5,6 +5,8 @@
 #include "model/scene/parse_scene.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -132,3 +134,5 @@ TEST(SceneErrors, RepeatedConstraintComponent) {
   expect_has(e, "scene.constraints[0].components");
   expect_has(e, "component 'x' is given twice");
 }
+
+}  // namespace KANESENS_UNITY_ID

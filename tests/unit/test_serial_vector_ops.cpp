@@ -21,6 +21,8 @@
 #include "sim/solve/sundials_handles.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace {
 
 using namespace kanesens::testing;
@@ -307,3 +309,5 @@ TEST(SerialVectorOps, BlockErrorNorms) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

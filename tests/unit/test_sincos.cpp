@@ -13,6 +13,8 @@
 
 #include "math/sincos.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace {
 
 using kanesens::math::sincos2;
@@ -138,3 +140,5 @@ TEST(SinCos4, EachLaneAsSinCos2) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

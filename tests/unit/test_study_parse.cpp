@@ -10,6 +10,8 @@
 #include "study/parse_vary.hpp"
 #include "util/did_you_mean.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace ks = kanesens::study;
 using kanesens::InputError;
 using ks::SamplingMethod;
@@ -229,3 +231,5 @@ vary:
   expect_error([&] { ks::Design(sampling(too_big), vary(too_big)); }, 1, 11, "sampling.samples",
                "more than 1000000000 runs");
 }
+
+}  // namespace KANESENS_UNITY_ID

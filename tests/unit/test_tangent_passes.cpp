@@ -18,6 +18,8 @@
 #include "sim/kane_problem.hpp"
 #include "../support/layers.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 namespace {
 
 using namespace kanesens::testing;
@@ -174,3 +176,5 @@ TEST(TangentPasses, JacobianAndSensitivitiesMatchSingleTangentPasses) {
 }
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID

@@ -23,6 +23,8 @@
 #include "kane_test_support.hpp"
 #include "math/dual.hpp"
 
+namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
+
 using namespace kanesens::testing;
 
 namespace {
@@ -531,3 +533,5 @@ INSTANTIATE_TEST_SUITE_P(Scenes, Invariance, ::testing::Range(0, 6), [](const au
 });
 
 }  // namespace
+
+}  // namespace KANESENS_UNITY_ID
