@@ -1,7 +1,8 @@
-// Helpers shared by the verification tests (tests/unit/test_kane_*.cpp,
-// tests/regression/test_closed_form_trajectories.cpp, test_sensitivities_fd.cpp).
-// Deliberately small: building a model from inline YAML, random states, quaternion algebra
-// written independently of src/ (so the tests do not reuse the code they check).
+// Helpers shared by the C++ tests (the verification tests tests/unit/test_kane_*.cpp,
+// tests/regression/test_closed_form_trajectories.cpp, test_sensitivities_fd.cpp, and others).
+// Deliberately small: building a model from inline YAML or a scene file, output grids, random
+// states, quaternion algebra written independently of src/ (so the tests do not reuse the code
+// they check).
 #pragma once
 #include <Eigen/Dense>
 #include <cmath>
