@@ -16,10 +16,11 @@ bash "$root/tools/asan-tree.sh" "$build"
 # The unit-test programs (tests/CMakeLists.txt: unit_tests and the standalone ones) and what they link.
 cmake --build "$build" -j "${KANESENS_JOBS:-$(nproc)}" --target unit_test_programs
 built=$(date +%s)
-# fast_unwind_on_malloc=0: full leak stacks through libraries built without frame pointers
+# The programs that start MPI add fast_unwind_on_malloc=0 to ASAN_OPTIONS for their tests
+# (tests/CMakeLists.txt): full leak stacks through libraries built without frame pointers
 # (otherwise Open MPI's leaks show as "<unknown module>" and cannot be attributed or suppressed);
 # Open MPI must keep its MCA plugins loaded for the same reason.
-export ASAN_OPTIONS="detect_leaks=1:fast_unwind_on_malloc=0:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
+export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
 export OMPI_MCA_mca_base_component_disable_dlclose=1
 export LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
