@@ -15,7 +15,7 @@ using math::Dual;
 using model::Model;
 
 namespace {
-// The multiplier-form right-hand side on duals at (y, s), with yd and ydot (nstate) as scratch.
+// The multiplier-form right-hand side on duals at (y, s), in scratch.y and scratch.ydot.
 // False where u̇ (and λ) cannot be computed: the outputs that need them are then NaN.
 bool evaluate_dual(const Model& m, DualWorkspace& ws, const DynamicsOptions& options, double t, const double* y,
                    const double* s, DualScratch scratch) {
