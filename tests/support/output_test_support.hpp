@@ -3,7 +3,6 @@
 // look its outputs up by name.
 #pragma once
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,17 +19,14 @@
 #include "sim/simulate.hpp"
 #include "study/setup.hpp"
 #include "layers.hpp"
+#include "scratch_dir.hpp"
 #include "test_scenes.hpp"
 
 namespace kanesens::testing {
 
 inline std::filesystem::path output_test_dir() {
-  static const std::filesystem::path dir = [] {
-    auto d = std::filesystem::temp_directory_path() / ("kanesens_outputs_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d;
-  }();
-  return dir;
+  static const ScratchDir dir("kanesens_outputs");
+  return dir.path();
 }
 
 // One study run: the setup (model, plan) and the trajectory of its nominal sample, or of

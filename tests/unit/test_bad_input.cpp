@@ -15,6 +15,7 @@
 #include "model/scene/parse_scene.hpp"
 #include "sim/kane_problem.hpp"
 #include "../support/layers.hpp"
+#include "../support/scratch_dir.hpp"
 
 namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
 
@@ -69,12 +70,8 @@ std::string edit(std::string s, const std::string& from, const std::string& to) 
 }
 
 std::filesystem::path temp_dir() {
-  static const std::filesystem::path dir = [] {
-    auto d = std::filesystem::temp_directory_path() / ("kanesens_bad_input_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d;
-  }();
-  return dir;
+  static const ScratchDir dir("kanesens_bad_input");
+  return dir.path();
 }
 
 // Runs the case; returns the InputError's line. Any other outcome fails the test.

@@ -12,6 +12,7 @@
 
 #include "study/setup.hpp"
 #include "../support/layers.hpp"
+#include "../support/scratch_dir.hpp"
 
 namespace KANESENS_UNITY_ID {  // this file's own names in a unity batch (tests/CMakeLists.txt)
 
@@ -47,9 +48,8 @@ struct Case {
 };
 
 std::string error_of(const Case& c) {
-  const auto dir = std::filesystem::temp_directory_path() / ("kanesens_bad_outputs_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / (std::string(c.name) + ".yaml");
+  static const ScratchDir dir("kanesens_bad_outputs");
+  const auto path = dir.path() / (std::string(c.name) + ".yaml");
   std::ofstream(path) << kHead << c.outputs;
   try {
     setup_study(path.string());
