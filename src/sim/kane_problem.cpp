@@ -36,8 +36,7 @@ KaneProblem::KaneProblem(const model::Model& model, std::vector<InputRef> sensit
       value_constraint_(static_cast<std::size_t>(model.nconstraint_rows)),
       u_full_(static_cast<std::size_t>(model.nu)),
       s_full_(static_cast<std::size_t>(model.nstate())),
-      recorded_rate_(static_cast<std::size_t>(model.nstate())),
-      recorded_dlambda_(static_cast<std::size_t>(model.nconstraint_rows)) {
+      recorded_rate_(static_cast<std::size_t>(model.nstate())) {
   embedded_ = model.nconstraint_rows > 0 && options_.formulation == ConstraintOptions::Formulation::embedding;
   if (!model.evaluate_planar()) sensitivity_method_ = DerivativeMethod::residual;
   value_rhs_ = !embedded_ && model.nconstraint_rows > 0 && !model.evaluate_planar() &&
@@ -598,9 +597,10 @@ void KaneProblem::multipliers(double t, const double* y, double* lambda) {
   sim::multipliers(model_, workspaces_.values(), dynamics_, t, y, recorded_rate_.data(), lambda);
 }
 
-void KaneProblem::multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda) {
+void KaneProblem::multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda,
+                                         int stride) {
   sim::multiplier_sensitivity(model_, workspaces_.tangent(i), dynamics_, t, y, s, {y_dual_.data(), ydot_dual_.data()},
-                              dlambda);
+                              dlambda, stride);
 }
 
 template <class Read>
@@ -617,12 +617,9 @@ void KaneProblem::full_state_sensitivity_passes(double t, const double* y, const
 }
 
 void KaneProblem::multiplier_sensitivities(double t, const double* y, const double* const* s, double* dlambda) {
-  const int m = model_.nconstraint_rows, ns = num_sensitivities();
+  const int ns = num_sensitivities();
   if (single_tangent()) {
-    for (int i = 0; i < ns; ++i) {
-      multiplier_sensitivity(t, y, i, s[i], recorded_dlambda_.data());
-      for (int r = 0; r < m; ++r) dlambda[r * ns + i] = recorded_dlambda_[static_cast<std::size_t>(r)];
-    }
+    for (int i = 0; i < ns; ++i) multiplier_sensitivity(t, y, i, s[i], dlambda + i, ns);
     return;
   }
   if (!fused_multiplier_sensitivities(t, y, s, dlambda)) multiplier_form_sensitivities(t, y, s, dlambda);

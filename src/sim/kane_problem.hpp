@@ -157,7 +157,8 @@ class KaneProblem final : public OdeProblem {
   // Outputs at a full state (sim/outputs.hpp), with the current sample's parameters.
   double energy(double t, const double* y);
   void multipliers(double t, const double* y, double* lambda);
-  void multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda);
+  // dλ/dε_i along s: row r in dlambda[r · stride].
+  void multiplier_sensitivity(double t, const double* y, int i, const double* s, double* dlambda, int stride = 1);
   // Every sensitivity's dλ/dε at once (dlambda[r · ns + i], NaN where λ cannot be computed):
   // one multi-tangent pass per block of sensitivities — the stacked right-hand side's residual
   // passes where they apply, else the multiplier form's.
@@ -310,7 +311,6 @@ class KaneProblem final : public OdeProblem {
   // The same from multi-tangent passes of the multiplier form (NaN where λ cannot be computed).
   void multiplier_form_sensitivities(double t, const double* y, const double* const* s, double* dlambda);
   std::vector<double> recorded_rate_;  // nstate: ẏ of the recording passes and multipliers (scratch)
-  std::vector<double> recorded_dlambda_;  // m: one sensitivity's dλ/dε on the single-tangent path (scratch)
 };
 
 }  // namespace kanesens::sim

@@ -42,9 +42,9 @@ void multipliers(const Model& m, Workspace<double>& ws, const DynamicsOptions& o
 }
 
 void multiplier_sensitivity(const Model& m, DualWorkspace& ws, const DynamicsOptions& options, double t,
-                            const double* y, const double* s, DualScratch scratch, double* dlambda) {
+                            const double* y, const double* s, DualScratch scratch, double* dlambda, int stride) {
   const bool ok = evaluate_dual(m, ws, options, t, y, s, scratch);
-  for (int r = 0; r < m.nconstraint_rows; ++r) dlambda[r] = ok ? ws.multipliers[r].d : std::nan("");
+  for (int r = 0; r < m.nconstraint_rows; ++r) dlambda[r * stride] = ok ? ws.multipliers[r].d : std::nan("");
 }
 
 void constraint_residuals(const Model& m, Workspace<double>& ws, const DynamicsOptions& options,

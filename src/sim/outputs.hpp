@@ -24,9 +24,11 @@ double energy(const model::Model& m, dynamics::Workspace<double>& ws, double t, 
 // λ (m) of M u̇ = f + Aᵀλ; ydot (nstate) is scratch, so that recording λ allocates nothing.
 void multipliers(const model::Model& m, dynamics::Workspace<double>& ws, const dynamics::DynamicsOptions& options,
                  double t, const double* y, double* ydot, double* lambda);
-// dλ/dε (m) along (s, the workspace's parameter tangent): one dual evaluation.
+// dλ/dε along (s, the workspace's parameter tangent), one dual evaluation: row r in
+// dlambda[r · stride], so that one sensitivity's column of a row-major m × ns array is written in place.
 void multiplier_sensitivity(const model::Model& m, DualWorkspace& ws, const dynamics::DynamicsOptions& options,
-                            double t, const double* y, const double* s, DualScratch scratch, double* dlambda);
+                            double t, const double* y, const double* s, DualScratch scratch, double* dlambda,
+                            int stride = 1);
 // max |g| over the holonomic rows, max |A u + a0| over all rows (NaN if any is not finite).
 void constraint_residuals(const model::Model& m, dynamics::Workspace<double>& ws,
                           const dynamics::DynamicsOptions& options, const std::vector<int>& holonomic_rows, double t,
