@@ -5,8 +5,8 @@
     /usr/bin/python3 bench/make_tables.py --check    # exit 1 if a table in the docs differs (no writes)
     /usr/bin/python3 bench/make_tables.py --list     # which table comes from which JSON
 
-A table in docs/benchmarks.md, docs/peers.md, docs/workprecision.md,
-docs/explanation/stability.md or docs/explanation/constraints.md sits between
+A table in one of the pages of DOCS below (docs/benchmarks.md,
+docs/explanation/performance-record.md, docs/peers.md, ...) sits between
 `<!-- table: NAME -->` and `<!-- /table -->`; NAME is a key of TABLES below, whose function
 makes the markdown from one JSON file written by one driver run (the file names the command
 that made it). Figures (PNG) are drawn from the same files; --check compares tables only.
@@ -27,7 +27,8 @@ sys.path.insert(0, str(HERE))
 
 DOCS = [ROOT / "docs" / "benchmarks.md", ROOT / "docs" / "peers.md", ROOT / "docs" / "workprecision.md",
         ROOT / "docs" / "explanation" / "stability.md", ROOT / "docs" / "explanation" / "constraints.md",
-        ROOT / "docs" / "explanation" / "solvers.md", ROOT / "docs" / "explanation" / "sparsity.md"]
+        ROOT / "docs" / "explanation" / "solvers.md", ROOT / "docs" / "explanation" / "sparsity.md",
+        ROOT / "docs" / "explanation" / "performance-record.md"]
 RESULTS = HERE / "results"
 PEERS = ROOT / "docs" / "peers"
 WP = ROOT / "docs" / "workprecision"
@@ -135,6 +136,47 @@ def dense_lu_solve():
 
 def sensitivity_cost_evaluations():
     return driver_table("sensitivity_cost", "sensitivity_cost_current.json", "evaluations")
+
+
+def sensitivity_cost_summary():
+    """Per added sensitivity and the Jacobian's cost, each scene from the newest run that has it:
+    on AVX-512 sensitivity_cost_value_rhs (sensitivity_cost_stacked for the scenes it left out),
+    on AVX2 the time and instruction tables of that processor."""
+    import sensitivity_cost
+    import sensitivity_instructions
+
+    def native(name, rate):
+        return {(r["scene"], r["method"]): rate(r) for r in load(RESULTS / name)["rows"] if r["exe"] == "native"}
+    avx512 = {**native("sensitivity_cost_stacked.json", sensitivity_cost.per_added),
+              **native("sensitivity_cost_value_rhs.json", sensitivity_cost.per_added)}
+    avx2 = native("sensitivity_cost_avx2.json", sensitivity_cost.per_added)
+    instructions = native("sensitivity_instructions_avx2.json", sensitivity_instructions.per_added)
+
+    def pair(rates, scene):
+        v = [rates.get((scene, m)) for m in ("bdf", "dop853")]
+        return None if None in v else " / ".join(f"{x:.2f}×" for x in v)
+
+    def jacobian(name):
+        v = [r["jacobian_over_rhs"] for r in load(RESULTS / name)["rows"] if r["exe"] == "native" and 6 <= r["nstate"] <= 20]
+        return f"{min(v):.1f}–{max(v):.1f}×"
+    scenes = [("arm_3d", "3-D arm (5 DOF, a universal joint)"), ("chain8_spatial", "8-link spatial chain"),
+              ("chain4_planar", "planar 4-link chain"), ("four_bar_multipliers", "four-bar with multipliers"),
+              ("rolling_disc", "rolling disc (multipliers)"), ("andrews", "Andrews' mechanism")]
+    rows = []
+    for scene, label in scenes:
+        time, count = pair(avx2, scene), pair(instructions, scene)
+        rows.append([label, "≤ 0.4×", pair(avx512, scene) or "—", f"{time} ({count})" if time else "—"])
+    rows.append(["the exact Jacobian, in right-hand sides, at 6–20 states", "≤ 6×", jacobian("jacobian_cost_current.json"),
+                 jacobian("jacobian_cost_avx2.json")])
+    return ("Per added sensitivity with six sensitivities (minimum of the interleaved runs; on AVX2 also in "
+            "instructions, which do not depend on the machine's load), and the Jacobian as the solvers get it "
+            "(median), built for the machine (`native`).\n\n" +
+            md(["six sensitivities of", "goal", "AVX-512: BDF / DOP853", "AVX2: BDF / DOP853, time (instructions)"],
+               rows, ["---", "---", "---", "---"]) +
+            "\n<sub>From `bench/results/`: AVX-512 `sensitivity_cost_value_rhs.json` (the planar chain "
+            "`sensitivity_cost_stacked.json`) and `jacobian_cost_current.json`; AVX2 `sensitivity_cost_avx2.json`, "
+            "`sensitivity_instructions_avx2.json` and `jacobian_cost_avx2.json` (each command is under its own "
+            "table).</sub>\n")
 
 
 def sensitivity_corrector_stacked():
@@ -856,7 +898,8 @@ DRIVER_TABLES = {
 TABLES = {
     "rhs_mujoco": rhs_mujoco, "rhs_paths": rhs_paths,
     "dense_lu_solve": dense_lu_solve,
-    "sensitivity_cost_evaluations": sensitivity_cost_evaluations, "sensitivity_corrector_stacked": sensitivity_corrector_stacked, "outputs_cost": outputs_cost,
+    "sensitivity_cost_evaluations": sensitivity_cost_evaluations, "sensitivity_corrector_stacked": sensitivity_corrector_stacked,
+    "sensitivity_cost_summary": sensitivity_cost_summary, "outputs_cost": outputs_cost,
     "sensitivity_corrector": sensitivity_corrector,
     "newton_sweep": newton_sweep, "newton_stiff": newton_stiff,
     "sensitivities": sensitivities_table, "constraints": constraints_table, "ensemble": ensemble_table,

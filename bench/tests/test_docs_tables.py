@@ -1,6 +1,7 @@
 """The benchmark pages' tables are what bench/make_tables.py makes from the committed JSON.
 
-docs/benchmarks.md, docs/peers.md, docs/workprecision.md and docs/explanation/stability.md hold
+docs/benchmarks.md, docs/explanation/performance-record.md, docs/peers.md, docs/workprecision.md
+and docs/explanation/stability.md hold
 no hand-written table: every markdown table sits between `<!-- table: NAME -->` and
 `<!-- /table -->`, and its text equals the generator's output for the JSON it names.
 docs/explanation/constraints.md has generated tables too (its benchmark figures) beside tables
@@ -16,7 +17,8 @@ from pathlib import Path
 
 ROOT = Path(os.environ.get("KANESENS_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 MAKE = ROOT / "bench" / "make_tables.py"
-GENERATED = [ROOT / "docs" / n for n in ("benchmarks.md", "peers.md", "workprecision.md", "explanation/stability.md")]
+GENERATED = [ROOT / "docs" / n for n in ("benchmarks.md", "peers.md", "workprecision.md", "explanation/stability.md",
+                                         "explanation/performance-record.md")]
 DOCS = GENERATED + [ROOT / "docs" / "explanation" / "constraints.md"]
 PY = sys.executable
 
