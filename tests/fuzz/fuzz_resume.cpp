@@ -9,7 +9,6 @@
 // corrupt bytes is out of scope: the edits go through the HDF5 API, so every file is well-formed.
 #include <hdf5.h>
 #include <mpi.h>
-#include <unistd.h>
 
 #include <cstdint>
 #include <cstdio>
@@ -24,6 +23,7 @@
 #include "io/hdf5_handle.hpp"
 #include "io/hdf5_text.hpp"
 #include "io/run_file.hpp"
+#include "../support/scratch_dir.hpp"
 
 namespace {
 
@@ -52,10 +52,10 @@ struct Files {
 };
 
 Files& files() {
+  static const kanesens::testing::ScratchDir scratch("kanesens_fuzz_resume");  // removed at exit
   static Files f = [] {
     Files x;
-    x.dir = std::filesystem::temp_directory_path() / ("kanesens_fuzz_resume_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(x.dir);
+    x.dir = scratch.path();
     x.path = (x.dir / "run.h5").string();
     {
       RunFile file = RunFile::create(MPI_COMM_SELF, x.path, layout(), true);
@@ -212,10 +212,6 @@ extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
   MPI_Init(argc, argv);
   silence_hdf5_errors();
   files();
-  std::atexit([] {
-    std::error_code ec;
-    std::filesystem::remove_all(files().dir, ec);
-  });
   return 0;
 }
 

@@ -3,7 +3,6 @@
 // and time settings, sampling and vary, every name, the nominal sample at its initial state),
 // then a few samples of the design (first, middle, last). Bad input must be an InputError;
 // crashes, other exceptions, hangs and sanitizer reports are findings.
-#include <unistd.h>
 
 #include <cstdint>
 #include <cstdio>
@@ -13,31 +12,29 @@
 #include <string>
 #include <vector>
 
+#include "../support/scratch_dir.hpp"
 #include "study/setup.hpp"
 #include "yaml_mutator.hpp"
 
 namespace {
 // A directory with a copy of the shipped scenes, where each input is written as study.yaml.
+// Removed, with its files, when the harness exits.
 const std::filesystem::path& work_dir() {
-  static const std::filesystem::path dir = [] {
-    auto d = std::filesystem::temp_directory_path() / ("kanesens_fuzz_study_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
+  static const kanesens::testing::ScratchDir dir("kanesens_fuzz_study");
+  static const bool copied = [] {
     for (const auto& f : std::filesystem::directory_iterator(KANESENS_CONFIGS_DIR))
       if (f.path().extension() == ".yaml")
-        std::filesystem::copy_file(f.path(), d / f.path().filename(), std::filesystem::copy_options::overwrite_existing);
-    return d;
+        std::filesystem::copy_file(f.path(), dir.path() / f.path().filename(),
+                                   std::filesystem::copy_options::overwrite_existing);
+    return true;
   }();
-  return dir;
+  (void)copied;
+  return dir.path();
 }
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   work_dir();
-  // Registered after work_dir()'s path is constructed, so it runs before that path is destroyed.
-  std::atexit([] {
-    std::error_code ec;
-    std::filesystem::remove_all(work_dir(), ec);
-  });
   return 0;
 }
 
