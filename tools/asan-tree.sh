@@ -3,7 +3,8 @@
 # compilation of the sources serves both): clang, RelWithDebInfo at -O1 -g1 (the sanitizers'
 # recommendation; -O2 -g takes far longer to build), ASan + UBSan without recovery, libFuzzer's
 # coverage on every object (KANESENS_SANITIZE=ON with KANESENS_FUZZ=ON), warnings as errors,
-# Ninja where it is installed. Installs clang (Debian's clang-14 ships libFuzzer) if missing.
+# the engine without its multi-tangent widths 12 and 10 (KANESENS_ALL_MULTI_DUAL_WIDTHS=OFF: the
+# same templates, which the Release tree's tests run at those widths), Ninja where it is installed. Installs clang (Debian's clang-14 ships libFuzzer) if missing.
 # A tree made otherwise (another compiler or options) is made again.
 # Usage: tools/asan-tree.sh BUILD_DIR
 set -euo pipefail
@@ -20,6 +21,7 @@ fi
 
 cache=$build/CMakeCache.txt
 if [[ -f $cache ]] && ! { grep -q '^KANESENS_SANITIZE:BOOL=ON$' "$cache" && grep -q '^KANESENS_FUZZ:BOOL=ON$' "$cache" \
+                          && grep -q '^KANESENS_ALL_MULTI_DUAL_WIDTHS:BOOL=OFF$' "$cache" \
                           && grep -q '^CMAKE_CXX_COMPILER:[A-Z]*=.*clang++' "$cache"; }; then
   echo "asan-tree: $build was configured otherwise; making it again"
   rm -rf "$build"
@@ -29,5 +31,5 @@ if [[ ! -f $cache ]]; then
   command -v ninja >/dev/null && generator=(-G Ninja)
   cmake "${generator[@]}" -S "$root" -B "$build" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-    -DKANESENS_SANITIZE=ON -DKANESENS_FUZZ=ON -DKANESENS_WERROR=ON >/dev/null
+    -DKANESENS_SANITIZE=ON -DKANESENS_FUZZ=ON -DKANESENS_WERROR=ON -DKANESENS_ALL_MULTI_DUAL_WIDTHS=OFF >/dev/null
 fi

@@ -154,10 +154,9 @@ TEST(NoAllocation, EvaluateRhsDual) {
 TEST(NoAllocation, EvaluateRhsMultiDual) {
   for (const auto& c : cases()) {
     SCOPED_TRACE(c.name);
-    expect_no_allocation<math::MultiDual<6>>(c.model);
-    expect_no_allocation<math::MultiDual<8>>(c.model);
-    expect_no_allocation<math::MultiDual<10>>(c.model);
-    expect_no_allocation<math::MultiDual<12>>(c.model);
+#define KANESENS_EXPECT_NO_ALLOCATION(S) expect_no_allocation<S>(c.model);
+    KANESENS_FOR_EACH_MULTI_DUAL(KANESENS_EXPECT_NO_ALLOCATION)  // every compiled width
+#undef KANESENS_EXPECT_NO_ALLOCATION
   }
 }
 
