@@ -4,7 +4,8 @@
 # recommendation; -O2 -g takes far longer to build), ASan + UBSan without recovery, libFuzzer's
 # coverage on every object (KANESENS_SANITIZE=ON with KANESENS_FUZZ=ON), warnings as errors,
 # the engine without its multi-tangent widths 12 and 10 (KANESENS_ALL_MULTI_DUAL_WIDTHS=OFF: the
-# same templates, which the Release tree's tests run at those widths), Ninja where it is installed. Installs clang (Debian's clang-14 ships libFuzzer) if missing.
+# same templates, which the Release tree's tests run at those widths), Ninja where it is
+# installed. Installs clang (Debian's clang-14 ships libFuzzer) if missing.
 # A tree made otherwise (another compiler or options) is made again.
 # Usage: tools/asan-tree.sh BUILD_DIR
 set -euo pipefail
