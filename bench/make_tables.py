@@ -160,9 +160,7 @@ def sensitivity_cost_summary():
 
     def avx2_cell(scene):
         time, count = pair(avx2, scene), pair(instructions, scene)
-        if not time:
-            return "—"
-        return f"{time} ({count})" if count else f"{time} (—)"
+        return f"{time} ({count or '—'})" if time else "—"
 
     def jacobian(name):
         v = [r["jacobian_over_rhs"] for r in load(RESULTS / name)["rows"] if r["exe"] == "native" and 6 <= r["nstate"] <= 20]
